@@ -1,0 +1,108 @@
+// `shellflow run`: run a case.
+//
+// The solvers (shell, fluid, mesh motion, coupling) are being built; until they land a run
+// meshes the case, sets up its initial state (the shell at rest, the fluid at the free
+// stream) and writes it: <mesh>.vtu/.pvd at t = 0, probes.csv with the t = 0 row, and the
+// probe plot. The structure below is the one the time loop will fill.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+#include "commands.h"
+#include "output_dir.h"
+#include "shellflow/io/case_meshes.h"
+#include "shellflow/io/mesh_output.h"
+#include "shellflow/io/probes.h"
+#include "shellflow/io/pvd_writer.h"
+
+namespace shellflow::app {
+namespace {
+
+/// Nodal fields of the initial state, by mesh.
+struct InitialState {
+  std::vector<double> shell_zero, shell_position;
+  std::vector<double> fluid_density, fluid_pressure, fluid_temperature, fluid_mach, fluid_energy,
+      fluid_velocity, fluid_momentum, fluid_zero3, space_zero;
+  std::vector<io::FieldView> views;
+};
+
+void fill(std::vector<double>& v, Index n, int components, double value) {
+  v.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(components), value);
+}
+
+InitialState initial_state(const io::Case& c, const io::CaseMeshes& meshes) {
+  InitialState s;
+  if (const auto* m = meshes.find("shell")) {
+    fill(s.shell_zero, m->num_nodes(), 3, 0.0);
+    for (const Vec3& x : m->nodes) s.shell_position.insert(s.shell_position.end(), x.data(), x.data() + 3);
+    for (auto q : {"displacement", "velocity", "acceleration"})
+      s.views.push_back({"shell", q, 3, s.shell_zero});
+    s.views.push_back({"shell", "position", 3, s.shell_position});
+  }
+  if (const auto* m = meshes.find("fluid"); m && c.fluid) {
+    const auto& gas = c.fluid->gas;
+    const auto& fs = c.fluid->free_stream;
+    const double sound = std::sqrt(gas.gamma * fs.pressure / fs.density);
+    const Vec3 u = fs.mach * sound * fs.direction;
+    const Index n = m->num_nodes();
+    fill(s.fluid_density, n, 1, fs.density);
+    fill(s.fluid_pressure, n, 1, fs.pressure);
+    fill(s.fluid_temperature, n, 1, fs.pressure / (fs.density * gas.gas_constant));
+    fill(s.fluid_mach, n, 1, fs.mach);
+    fill(s.fluid_energy, n, 1, fs.pressure / (gas.gamma - 1.0) + 0.5 * fs.density * u.squaredNorm());
+    fill(s.fluid_zero3, n, 3, 0.0);
+    for (Index i = 0; i < n; ++i) {
+      s.fluid_velocity.insert(s.fluid_velocity.end(), u.data(), u.data() + 3);
+      const Vec3 mom = fs.density * u;
+      s.fluid_momentum.insert(s.fluid_momentum.end(), mom.data(), mom.data() + 3);
+    }
+    s.views.insert(s.views.end(), {{"fluid", "density", 1, s.fluid_density},
+                                   {"fluid", "pressure", 1, s.fluid_pressure},
+                                   {"fluid", "temperature", 1, s.fluid_temperature},
+                                   {"fluid", "mach", 1, s.fluid_mach},
+                                   {"fluid", "energy", 1, s.fluid_energy},
+                                   {"fluid", "velocity", 3, s.fluid_velocity},
+                                   {"fluid", "momentum", 3, s.fluid_momentum},
+                                   {"fluid", "mesh_velocity", 3, s.fluid_zero3}});
+  }
+  if (const auto* m = meshes.find("space")) {
+    fill(s.space_zero, m->num_nodes(), 3, 0.0);
+    s.views.push_back({"space", "displacement", 3, s.space_zero});
+    s.views.push_back({"space", "velocity", 3, s.space_zero});
+  }
+  return s;
+}
+
+}  // namespace
+
+int run_command(const CommonOptions& options) {
+  const io::Case c = io::read_case(options.case_file);
+  const auto outdir = prepare_output_dir(c, options);
+  spdlog::info("case '{}' -> {}", c.name, outdir.string());
+  const io::CaseMeshes meshes = io::load_case_meshes(c, outdir);
+  const InitialState state = initial_state(c, meshes);
+  io::ProbeSet probes(c.probes, meshes, outdir / "probes.csv");
+
+  const double time = 0.0;
+  for (const mesh::Mesh* m : meshes.all()) {
+    std::vector<io::VtuField> fields;
+    for (const auto& v : state.views)
+      if (v.mesh == m->name) fields.push_back({std::string(v.quantity), v.components, v.values});
+    const std::string vtu = fmt::format("{}_{:06}.vtu", m->name, 0);
+    io::write_mesh_vtu(outdir / vtu, *m, std::move(fields), time);
+    io::PvdWriter(outdir, m->name).add(time, vtu);
+  }
+  probes.record(time, state.views);
+  spdlog::warn("time integration is not available yet in this version: wrote the initial state "
+               "(t = 0) only");
+  spdlog::info("wrote {}: <mesh>_000000.vtu, <mesh>.pvd, probes.csv", outdir.string());
+  if (options.plot) {
+    make_plot("plot_probes.py",
+              fmt::format("\"{}\" -o \"{}\"", (outdir / "probes.csv").string(),
+                          (outdir / "probes.png").string()));
+  }
+  return 0;
+}
+
+}  // namespace shellflow::app

@@ -1,0 +1,24 @@
+#pragma once
+// The subcommands of `shellflow`. Each returns the process exit code and throws
+// shellflow::Error for anything the user must fix (caught and printed once in main).
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace shellflow::app {
+
+struct CommonOptions {
+  std::filesystem::path case_file;
+  std::optional<std::filesystem::path> output_dir;  ///< -o; default: the case's output.directory
+  bool plot = true;                                 ///< make the PNG plot at the end
+};
+
+int run_command(const CommonOptions& options);
+int mesh_command(const CommonOptions& options, bool json);
+int check_command(const CommonOptions& options);
+
+/// Runs tools/<script> with Debian's Python on `args`; logs a warning (not an error) if the
+/// plot cannot be made, since the numerical output is already written.
+void make_plot(const std::string& script, const std::string& args);
+
+}  // namespace shellflow::app

@@ -1,0 +1,35 @@
+#pragma once
+// Errors carry their full context (file, line, entity, fix) in the message, so that
+// `main` can print them as one line. Library code throws; only `app/` catches.
+#include <stdexcept>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace shellflow {
+
+/// Any error shellflow reports to the user.
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// Bad input: a case file, a mesh file, a value out of range. The message starts with
+/// `FILE:LINE:` when the location is known.
+class InputError : public Error {
+ public:
+  using Error::Error;
+};
+
+/// A run that cannot go on: a diverging iteration, an inverted element, a negative density.
+class SolverError : public Error {
+ public:
+  using Error::Error;
+};
+
+template <class... Args>
+[[noreturn]] void throw_input_error(fmt::format_string<Args...> f, Args&&... args) {
+  throw InputError(fmt::format(f, std::forward<Args>(args)...));
+}
+
+}  // namespace shellflow

@@ -1,0 +1,1 @@
+#include "shellflow/core/version.h"

@@ -1,0 +1,393 @@
+#include "shellflow/io/case.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <map>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::io {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Names of the enumerations as written in case files, indexed by enumerator value.
+constexpr std::array<std::string_view, 2> kMeshFormatNames = {"geo", "msh"};
+constexpr std::array<std::string_view, 5> kSupportNames = {"clamped", "simply_supported",
+                                                           "symmetry", "sliding", "prescribed"};
+constexpr std::array<std::string_view, 6> kFluidBoundaryNames = {
+    "supersonic_inflow", "supersonic_outflow", "far_field",
+    "slip_wall",         "no_slip_wall",       "symmetry"};
+constexpr std::array<std::string_view, 5> kComponentNames = {"x", "y", "z", "magnitude", "scalar"};
+constexpr std::array<std::string_view, 4> kVectorComponentNames = {"x", "y", "z", "magnitude"};
+constexpr std::array<std::string_view, 3> kLocationNames = {"point", "node", "group"};
+constexpr std::array<std::string_view, 3> kReduceNames = {"mean", "min", "max"};
+
+constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
+    {"shell", "displacement", true},
+    {"shell", "velocity", true},
+    {"shell", "acceleration", true},
+    {"shell", "position", true},
+    {"fluid", "density", false},
+    {"fluid", "pressure", false},
+    {"fluid", "temperature", false},
+    {"fluid", "mach", false},
+    {"fluid", "velocity", true},
+    {"fluid", "momentum", true},
+    {"fluid", "energy", false},
+    {"fluid", "mesh_velocity", true},
+    {"space", "displacement", true},
+    {"space", "velocity", true},
+}};
+
+std::string join(const std::vector<std::string>& items, std::string_view sep) {
+  std::string out;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    if (i > 0) out += sep;
+    out += items[i];
+  }
+  return out;
+}
+
+/// Names used in output file names and CSV headers: [A-Za-z0-9_.-]+.
+bool is_valid_name(std::string_view s) {
+  return !s.empty() && std::all_of(s.begin(), s.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '.' || c == '-';
+  });
+}
+
+std::string read_name(const YamlNode& node, std::string_view key) {
+  std::string value = node.required<std::string>(key);
+  if (!is_valid_name(value)) {
+    node.fail(key,
+              fmt::format("must contain only letters, digits, '_', '.' and '-', got '{}'", value));
+  }
+  return value;
+}
+
+/// A physical group name: non-empty string; recorded in `refs` for check_physical_groups().
+std::string read_group(const YamlNode& node, std::string_view mesh,
+                       std::vector<GroupReference>& refs) {
+  std::string group = node.required<std::string>("group");
+  if (group.empty()) node.fail("group", "expected a physical group name, got an empty string");
+  refs.push_back({group, std::string(mesh), node.location("group")});
+  return group;
+}
+
+/// A direction: normalised; a zero vector is an error.
+Vec3 unit_vector(const YamlNode& node, std::string_view key, const Vec3& v) {
+  const double n = v.norm();
+  if (!(n > 0.0)) node.fail(key, "must be a non-zero vector [x, y, z], got [0, 0, 0]");
+  return v / n;
+}
+
+void require_mesh(const YamlNode& section, const MeshesSection& meshes, std::string_view mesh) {
+  if (!meshes.find(mesh)) {
+    section.fail(
+        fmt::format("needs a {} mesh; expected 'meshes.{}' with 'geo' or 'msh'", mesh, mesh));
+  }
+}
+
+// ---- sections -------------------------------------------------------------------------------
+
+MeshSpec read_mesh(const YamlNode& node, std::string_view key, int default_order) {
+  MeshSpec spec;
+  spec.key = std::string(key);
+  spec.where = node.location();
+  const bool geo = node.has("geo");
+  const bool msh = node.has("msh");
+  if (geo && msh) node.fail("both 'geo' and 'msh' given; expected exactly one of them");
+  if (!geo && !msh) node.fail_missing({"geo", "msh"});
+  spec.format = geo ? MeshFormat::geo : MeshFormat::msh;
+  const std::string_view file_key = geo ? "geo" : "msh";
+  spec.as_written = node.required<std::string>(file_key);
+  const std::string extension = fs::path(spec.as_written).extension().string();
+  if (extension != fmt::format(".{}", file_key)) {
+    node.fail(file_key,
+              fmt::format("expected a Gmsh .{} file, got '{}'", file_key, spec.as_written));
+  }
+  spec.file = node.input_file(file_key);
+  if (geo) {
+    spec.order = node.optional<int>("order", default_order, Range::in_range(1, 3));
+    spec.size_factor = node.optional<double>("size_factor", 1.0, Range::positive());
+  } else {
+    for (const std::string_view k : {"order", "size_factor"}) {
+      if (node.has(k)) {
+        node.fail(k, "applies only to meshes given by 'geo'; a .msh file is used as it is");
+      }
+    }
+    spec.order = 0;
+  }
+  node.finish();
+  return spec;
+}
+
+MeshesSection read_meshes(const YamlNode& root) {
+  const YamlNode node = root.child("meshes");
+  MeshesSection meshes;
+  if (auto n = node.optional_child("fluid")) meshes.fluid = read_mesh(*n, "fluid", 1);
+  if (auto n = node.optional_child("space")) meshes.space = read_mesh(*n, "space", 3);
+  if (auto n = node.optional_child("shell")) meshes.shell = read_mesh(*n, "shell", 3);
+  if (!meshes.fluid && !meshes.space && !meshes.shell) {
+    node.fail_missing({"fluid", "space", "shell"},
+                      "no mesh given; expected at least one of 'fluid', 'space', 'shell'");
+  }
+  node.finish();
+  return meshes;
+}
+
+ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs) {
+  ShellSection shell;
+  shell.thickness = node.required<double>("thickness", Range::positive(), "m");
+
+  const YamlNode material = node.child("material");
+  shell.material.young_modulus =
+      material.required<double>("young_modulus", Range::positive(), "Pa");
+  shell.material.poisson_ratio = material.required<double>("poisson_ratio", Range::open(-1, 0.5));
+  shell.material.density = material.required<double>("density", Range::non_negative(), "kg/m^3");
+  material.finish();
+
+  for (const YamlNode& item : node.optional_list("supports")) {
+    item.expect_map();
+    Support s;
+    s.where = item.location();
+    s.group = read_group(item, "shell", refs);
+    s.type = item.enumeration<SupportType>("type", kSupportNames);
+    if (s.type == SupportType::sliding) {
+      s.direction = unit_vector(item, "direction", item.vec3("direction"));
+    } else if (item.has("direction")) {
+      item.fail("direction", "applies only to supports of type 'sliding'");
+    }
+    item.finish();
+    shell.supports.push_back(std::move(s));
+  }
+  node.finish();
+  return shell;
+}
+
+FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs) {
+  FluidSection fluid;
+  if (auto gas = node.optional_child("gas")) {
+    fluid.gas.gamma = gas->optional<double>("gamma", 1.4, Range::greater_than(1));
+    fluid.gas.gas_constant =
+        gas->optional<double>("gas_constant", 287.05, Range::positive(), "J/(kg K)");
+    gas->finish();
+  }
+
+  const YamlNode stream = node.child("free_stream");
+  fluid.free_stream.density = stream.required<double>("density", Range::positive(), "kg/m^3");
+  fluid.free_stream.pressure = stream.required<double>("pressure", Range::positive(), "Pa");
+  fluid.free_stream.mach = stream.required<double>("mach", Range::non_negative());
+  fluid.free_stream.direction =
+      unit_vector(stream, "direction", stream.vec3("direction", Vec3::UnitX()));
+  stream.finish();
+
+  std::map<std::string, int> first_line;  // group -> line of its first boundary condition
+  for (const YamlNode& item : node.optional_list("boundaries")) {
+    item.expect_map();
+    FluidBoundary b;
+    b.where = item.location();
+    b.group = read_group(item, "fluid", refs);
+    b.type = item.enumeration<FluidBoundaryType>("type", kFluidBoundaryNames);
+    const auto [it, inserted] = first_line.emplace(b.group, item.location("group").line);
+    if (!inserted) {
+      item.fail("group", fmt::format("group '{}' already has a boundary condition (line {}); "
+                                     "expected one condition per group",
+                                     b.group, it->second));
+    }
+    item.finish();
+    fluid.boundaries.push_back(std::move(b));
+  }
+  node.finish();
+  return fluid;
+}
+
+Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
+                 std::vector<GroupReference>& refs) {
+  item.expect_map();
+  Probe p;
+  p.where = item.location();
+  p.name = read_name(item, "name");
+  if (p.name == "time") {
+    item.fail("name",
+              "'time' is reserved for the time column of probes.csv; expected another "
+              "name");
+  }
+
+  p.field = item.required<std::string>("field");
+  const auto dot = p.field.find('.');
+  p.mesh = p.field.substr(0, dot);
+  p.quantity = dot == std::string::npos ? std::string() : p.field.substr(dot + 1);
+  if (dot == std::string::npos ||
+      std::find(std::begin(kMeshKeys), std::end(kMeshKeys), p.mesh) == std::end(kMeshKeys)) {
+    item.fail("field", fmt::format("expected 'MESH.QUANTITY' with MESH one of fluid, space, "
+                                   "shell, got '{}'",
+                                   p.field));
+  }
+  const ProbeQuantity* quantity = nullptr;
+  std::vector<std::string> fields;
+  for (const auto& q : probe_quantities()) {
+    if (q.mesh != p.mesh) continue;
+    fields.push_back(fmt::format("{}.{}", q.mesh, q.quantity));
+    if (q.quantity == p.quantity) quantity = &q;
+  }
+  if (!quantity) {
+    std::string what = fmt::format("unknown field '{}'; ", p.field);
+    if (auto suggestion = closest_match(p.field, fields)) {
+      what += fmt::format("did you mean '{}'? (one of: {})", *suggestion, join(fields, ", "));
+    } else {
+      what += fmt::format("expected one of: {}", join(fields, ", "));
+    }
+    item.fail("field", what);
+  }
+  if (!meshes.find(p.mesh)) {
+    item.fail("field",
+              fmt::format("the case has no {} mesh; expected 'meshes.{}'", p.mesh, p.mesh));
+  }
+
+  if (quantity->is_vector) {
+    p.component = item.enumeration<ProbeComponent>("component", kVectorComponentNames,
+                                                   ProbeComponent::magnitude);
+  } else {
+    p.component = ProbeComponent::scalar;
+    if (item.has("component")) {
+      item.fail("component",
+                fmt::format("applies only to vector fields; '{}' is a scalar", p.field));
+    }
+  }
+
+  const int given = int{item.has("point")} + int{item.has("node")} + int{item.has("group")};
+  if (given == 0) item.fail_missing({"point", "node", "group"});
+  if (given > 1) item.fail("give only one of 'point', 'node', 'group'");
+  if (item.has("point")) {
+    p.location = ProbeLocation::point;
+    p.point = item.vec3("point");
+  } else if (item.has("node")) {
+    p.location = ProbeLocation::node;
+    p.node = item.required<Index>("node", Range::non_negative());
+  } else {
+    p.location = ProbeLocation::group;
+    p.group = read_group(item, p.mesh, refs);
+  }
+  if (p.location == ProbeLocation::group) {
+    p.reduce = item.enumeration<ProbeReduce>("reduce", kReduceNames, ProbeReduce::mean);
+  } else if (item.has("reduce")) {
+    item.fail("reduce", "applies only to probes on a 'group'");
+  }
+  item.finish();
+  return p;
+}
+
+std::vector<Probe> read_probes(const YamlNode& root, const MeshesSection& meshes,
+                               std::vector<GroupReference>& refs) {
+  std::vector<Probe> probes;
+  std::map<std::string, int> first_line;  // name -> line where it was first used
+  for (const YamlNode& item : root.optional_list("probes")) {
+    Probe p = read_probe(item, meshes, refs);
+    const auto [it, inserted] = first_line.emplace(p.name, item.location("name").line);
+    if (!inserted) {
+      item.fail("name", fmt::format("duplicate probe name '{}' (first used at line {}); "
+                                    "expected unique names",
+                                    p.name, it->second));
+    }
+    probes.push_back(std::move(p));
+  }
+  return probes;
+}
+
+OutputSection read_output(const YamlNode& root, const std::string& case_name) {
+  OutputSection out;
+  out.directory = fs::path("out") / case_name;
+  if (auto node = root.optional_child("output")) {
+    if (auto dir = node->maybe<std::string>("directory")) {
+      if (dir->empty()) node->fail("directory", "expected a directory name, got an empty string");
+      out.directory = *dir;
+    }
+    out.every = node->optional<int>("every", 1, Range::at_least(1));
+    node->finish();
+  }
+  return out;
+}
+
+Case read_case(const YamlNode& root) {
+  Case c;
+  c.file = root.file();
+  c.name = read_name(root, "name");
+  c.description = root.optional<std::string>("description", {});
+  c.meshes = read_meshes(root);
+  if (auto node = root.optional_child("shell")) {
+    require_mesh(*node, c.meshes, "shell");
+    c.shell = read_shell(*node, c.group_references);
+  }
+  if (auto node = root.optional_child("fluid")) {
+    require_mesh(*node, c.meshes, "fluid");
+    c.fluid = read_fluid(*node, c.group_references);
+  }
+  c.probes = read_probes(root, c.meshes, c.group_references);
+  c.output = read_output(root, c.name);
+  root.finish();
+  std::stable_sort(
+      c.group_references.begin(), c.group_references.end(),
+      [](const GroupReference& a, const GroupReference& b) { return a.where.line < b.where.line; });
+  return c;
+}
+
+}  // namespace
+
+const MeshSpec* MeshesSection::find(std::string_view key) const {
+  if (key == "fluid") return fluid ? &*fluid : nullptr;
+  if (key == "space") return space ? &*space : nullptr;
+  if (key == "shell") return shell ? &*shell : nullptr;
+  return nullptr;
+}
+
+std::span<const ProbeQuantity> probe_quantities() { return kProbeQuantities; }
+
+Case read_case(const fs::path& file) { return read_case(YamlNode::load_file(file)); }
+
+Case read_case_string(std::string_view text, const fs::path& file) {
+  return read_case(YamlNode::load_string(text, file));
+}
+
+void check_physical_groups(const Case& c, const GroupNamesOfMesh& groups_of_mesh) {
+  std::map<std::string, std::vector<std::string>, std::less<>> groups;
+  for (const GroupReference& ref : c.group_references) {
+    auto it = groups.find(ref.mesh);
+    if (it == groups.end()) it = groups.emplace(ref.mesh, groups_of_mesh(ref.mesh)).first;
+    const std::vector<std::string>& available = it->second;
+    if (std::find(available.begin(), available.end(), ref.group) != available.end()) continue;
+
+    const MeshSpec* mesh = c.meshes.find(ref.mesh);
+    std::string what =
+        fmt::format("physical group '{}' not found in mesh '{}'", ref.group, ref.mesh);
+    if (mesh) what += fmt::format(" ({})", mesh->as_written);
+    if (available.empty()) {
+      what += "; the mesh has no physical groups";
+    } else {
+      if (auto suggestion = closest_match(ref.group, available)) {
+        what +=
+            fmt::format("; did you mean '{}'? available: {}", *suggestion, join(available, ", "));
+      } else {
+        what += fmt::format("; available: {}", join(available, ", "));
+      }
+    }
+    throw_at(ref.where, what);
+  }
+}
+
+std::string_view to_string(MeshFormat f) { return kMeshFormatNames[static_cast<std::size_t>(f)]; }
+std::string_view to_string(SupportType t) { return kSupportNames[static_cast<std::size_t>(t)]; }
+std::string_view to_string(FluidBoundaryType t) {
+  return kFluidBoundaryNames[static_cast<std::size_t>(t)];
+}
+std::string_view to_string(ProbeComponent c) {
+  return kComponentNames[static_cast<std::size_t>(c)];
+}
+std::string_view to_string(ProbeLocation l) { return kLocationNames[static_cast<std::size_t>(l)]; }
+std::string_view to_string(ProbeReduce r) { return kReduceNames[static_cast<std::size_t>(r)]; }
+
+}  // namespace shellflow::io

@@ -1,0 +1,197 @@
+#pragma once
+// A case file (YAML, one file per case) read into plain structs. The schema, with every key,
+// its unit and its default, is documented in docs/case-format.md; keep the two in step.
+//
+//   Case c = read_case("cases/panel_flutter_coarse.yaml");   // throws InputError
+//   check_physical_groups(c, [&](std::string_view mesh) { return meshes.at(mesh).group_names(); });
+//
+// read_case() checks everything that can be checked without meshing: keys, types, ranges,
+// that mesh files exist. Physical group names are checked by check_physical_groups() once the
+// meshes are loaded; every group reference keeps the file, line and key path it came from.
+//
+// Adding a section (a later module's parameters): add a struct and an
+// `std::optional<Section>` member to Case, read it in case.cpp with a `read_<section>()` that
+// uses YamlNode and ends with `finish()`, and document it in docs/case-format.md.
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "shellflow/core/types.h"
+#include "shellflow/io/yaml_reader.h"
+
+namespace shellflow::io {
+
+// ---- meshes -----------------------------------------------------------------------------------
+
+/// The three meshes a case may use, by their key in `meshes:`.
+inline constexpr std::string_view kMeshKeys[] = {"fluid", "space", "shell"};
+
+enum class MeshFormat { geo, msh };
+
+/// One mesh: a Gmsh `.geo` to mesh on the fly, or a ready `.msh`.
+struct MeshSpec {
+  std::string key;  ///< "fluid", "space" or "shell"
+  MeshFormat format = MeshFormat::geo;
+  std::filesystem::path file;  ///< resolved: case directory / as_written, normalised; exists
+  std::string as_written;      ///< the path as written in the case file (for messages)
+  int order = 1;               ///< element order 1, 2 or 3; 0 for a `.msh` (used as it is)
+  double size_factor = 1.0;    ///< Gmsh Mesh.MeshSizeFactor (`.geo` only; 1 for a `.msh`)
+  SourceLocation where;        ///< the `meshes.<key>` entry
+};
+
+struct MeshesSection {
+  std::optional<MeshSpec> fluid;  ///< default order 1
+  std::optional<MeshSpec> space;  ///< default order 3
+  std::optional<MeshSpec> shell;  ///< default order 3
+
+  /// The mesh with key "fluid", "space" or "shell"; nullptr if the case has none.
+  const MeshSpec* find(std::string_view key) const;
+};
+
+// ---- shell ------------------------------------------------------------------------------------
+
+struct Material {
+  double young_modulus = 0.0;  ///< E [Pa], > 0
+  double poisson_ratio = 0.0;  ///< nu [-], -1 < nu < 0.5
+  double density = 0.0;        ///< rho [kg/m^3], >= 0
+};
+
+enum class SupportType { clamped, simply_supported, symmetry, sliding, prescribed };
+
+struct Support {
+  std::string group;  ///< physical group of the shell mesh
+  SupportType type = SupportType::clamped;
+  Vec3 direction = Vec3::Zero();  ///< `sliding` only: unit vector of the allowed motion
+  SourceLocation where;           ///< the list item `shell.supports[i]`
+};
+
+struct ShellSection {
+  double thickness = 0.0;  ///< h [m], > 0
+  Material material;
+  std::vector<Support> supports;
+};
+
+// ---- fluid ------------------------------------------------------------------------------------
+
+struct Gas {
+  double gamma = 1.4;            ///< ratio of specific heats [-], > 1
+  double gas_constant = 287.05;  ///< R [J/(kg K)], > 0
+};
+
+struct FreeStream {
+  double density = 0.0;            ///< [kg/m^3], > 0
+  double pressure = 0.0;           ///< [Pa], > 0
+  double mach = 0.0;               ///< [-], >= 0
+  Vec3 direction = Vec3::UnitX();  ///< unit vector (normalised when read)
+};
+
+enum class FluidBoundaryType {
+  supersonic_inflow,
+  supersonic_outflow,
+  far_field,
+  slip_wall,
+  no_slip_wall,
+  symmetry
+};
+
+struct FluidBoundary {
+  std::string group;  ///< physical group of the fluid mesh
+  FluidBoundaryType type = FluidBoundaryType::slip_wall;
+  SourceLocation where;  ///< the list item `fluid.boundaries[i]`
+};
+
+struct FluidSection {
+  Gas gas;
+  FreeStream free_stream;
+  std::vector<FluidBoundary> boundaries;
+};
+
+// ---- probes -----------------------------------------------------------------------------------
+
+/// A quantity a probe can record: `<mesh>.<quantity>`, scalar or vector.
+struct ProbeQuantity {
+  std::string_view mesh;      ///< "shell", "fluid" or "space"
+  std::string_view quantity;  ///< e.g. "displacement"
+  bool is_vector;
+};
+/// Every quantity probes may name (extend it when a module adds an output field).
+std::span<const ProbeQuantity> probe_quantities();
+
+enum class ProbeComponent { x, y, z, magnitude, scalar };  ///< `scalar`: the field is a scalar
+enum class ProbeLocation { point, node, group };
+enum class ProbeReduce { mean, min, max };
+
+struct Probe {
+  std::string name;      ///< unique, [A-Za-z0-9_.-]+; the CSV column title
+  std::string field;     ///< "shell.displacement"
+  std::string mesh;      ///< "shell" (the part before the dot)
+  std::string quantity;  ///< "displacement" (the part after the dot)
+  ProbeComponent component = ProbeComponent::scalar;
+  ProbeLocation location = ProbeLocation::point;
+  Vec3 point = Vec3::Zero();               ///< location == point [m]
+  Index node = 0;                          ///< location == node: 0-based node index in that mesh
+  std::string group;                       ///< location == group: physical group of that mesh
+  ProbeReduce reduce = ProbeReduce::mean;  ///< location == group
+  SourceLocation where;                    ///< the list item `probes[i]`
+};
+
+// ---- output -----------------------------------------------------------------------------------
+
+struct OutputSection {
+  /// Output directory, relative to the current working directory (not to the case file).
+  /// Default `out/<name>`; the command line's `-o` overrides it.
+  std::filesystem::path directory;
+  int every = 1;  ///< write fields every N steps (probes are written every step)
+};
+
+// ---- the case -----------------------------------------------------------------------------------
+
+/// A physical group named in the case file, and where (for a message if the mesh lacks it).
+struct GroupReference {
+  std::string group;
+  std::string mesh;      ///< "fluid", "space" or "shell"
+  SourceLocation where;  ///< e.g. `case.yaml:21: shell.supports[0].group`
+};
+
+struct Case {
+  std::filesystem::path file;  ///< the case file as given
+  std::string name;            ///< [A-Za-z0-9_.-]+
+  std::string description;
+  MeshesSection meshes;
+  std::optional<ShellSection> shell;
+  std::optional<FluidSection> fluid;
+  std::vector<Probe> probes;
+  OutputSection output;
+  /// Every physical group the case names, in file order.
+  std::vector<GroupReference> group_references;
+};
+
+/// Reads and checks a case file. Throws InputError `FILE:LINE: key.path: message`.
+Case read_case(const std::filesystem::path& file);
+/// Same, from text; `file` names it in messages and relative paths are resolved from its
+/// directory.
+Case read_case_string(std::string_view text, const std::filesystem::path& file);
+
+/// Physical group names of a mesh, by its key ("fluid", "space", "shell").
+using GroupNamesOfMesh = std::function<std::vector<std::string>(std::string_view mesh_key)>;
+
+/// Checks that every group the case names exists in its mesh. Throws InputError
+/// `FILE:LINE: shell.supports[0].group: physical group 'leadng_edge' not found in mesh 'shell'
+/// (panel_strip.geo); did you mean 'leading_edge'? available: leading_edge, trailing_edge`.
+/// `groups_of_mesh` is called at most once per mesh, and only for meshes the case references.
+void check_physical_groups(const Case& c, const GroupNamesOfMesh& groups_of_mesh);
+
+// ---- names of enumerations (as written in case files) -------------------------------------------
+
+std::string_view to_string(MeshFormat f);
+std::string_view to_string(SupportType t);
+std::string_view to_string(FluidBoundaryType t);
+std::string_view to_string(ProbeComponent c);
+std::string_view to_string(ProbeLocation l);
+std::string_view to_string(ProbeReduce r);
+
+}  // namespace shellflow::io

@@ -1,0 +1,100 @@
+#include "shellflow/io/probe_writer.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <set>
+#include <system_error>
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::io {
+namespace {
+
+/// Why `name` cannot be a CSV column header, or nullptr when it can.
+const char* name_problem(const std::string& name) {
+  if (name.empty()) return "is empty";
+  if (name == "time") return "is 'time', the name of the first column";
+  for (char ch : name) {
+    if (ch == ',') return "contains a comma";
+    if (ch == '"') return "contains a double quote";
+    if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) {
+      return "contains a line break or another control character";
+    }
+  }
+  if (name.front() == ' ' || name.back() == ' ') return "starts or ends with a space";
+  return nullptr;
+}
+
+std::string number(double x) {
+  if (std::isnan(x)) return "nan";
+  return fmt::format("{:.17g}", x);  // inf, -inf as such
+}
+
+}  // namespace
+
+ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> names)
+    : path_(std::move(path)), names_(std::move(names)) {
+  std::set<std::string> seen;
+  for (std::size_t i = 0; i < names_.size(); ++i) {
+    const auto& n = names_[i];
+    if (const char* why = name_problem(n)) {
+      throw_input_error(
+          "{}: probe {} name '{}' {}; probe names are CSV column headers: use letters, "
+          "digits, '_', '-', '.' (no commas, quotes or line breaks)",
+          path_.string(), i + 1, n, why);
+    }
+    if (!seen.insert(n).second) {
+      throw_input_error("{}: probe name '{}' is given twice; give each probe its own name",
+                        path_.string(), n);
+    }
+  }
+
+  if (path_.has_parent_path()) {
+    std::error_code ec;
+    std::filesystem::create_directories(path_.parent_path(), ec);
+    if (ec) {
+      throw Error(fmt::format("cannot create directory {} for {}: {}",
+                              path_.parent_path().string(), path_.string(), ec.message()));
+    }
+  }
+  out_.open(path_, std::ios::out | std::ios::trunc);
+  if (!out_) {
+    throw Error(
+        fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
+  }
+  std::string header = "time";
+  for (const auto& n : names_) {
+    header += ',';
+    header += n;
+  }
+  header += '\n';
+  out_ << header << std::flush;
+  if (!out_) throw Error(fmt::format("cannot write {}", path_.string()));
+}
+
+void ProbeWriter::append(double time, std::span<const double> values) {
+  if (values.size() != names_.size()) {
+    throw Error(fmt::format("{}: row at time {} has {} values for {} probes", path_.string(),
+                            time, values.size(), names_.size()));
+  }
+  if (!std::isfinite(time)) {
+    throw Error(fmt::format("{}: time {} is not finite", path_.string(), time));
+  }
+  std::string row = number(time);
+  for (double v : values) {
+    row += ',';
+    row += number(v);
+  }
+  row += '\n';
+  out_ << row << std::flush;  // one write per row: a crash leaves whole rows
+  if (!out_) {
+    throw Error(fmt::format("cannot write {} (disk full?): {}", path_.string(),
+                            std::strerror(errno)));
+  }
+  ++rows_;
+}
+
+}  // namespace shellflow::io

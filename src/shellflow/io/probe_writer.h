@@ -1,0 +1,39 @@
+#pragma once
+// Probe histories as CSV: one header line `time,<name1>,<name2>,...`, then one row per
+// `append`, every number with 17 significant digits (round-trips a double exactly). Each
+// row is flushed as soon as it is written, so the file is readable while the run goes on
+// and after it dies.
+#include <filesystem>
+#include <fstream>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace shellflow::io {
+
+class ProbeWriter {
+ public:
+  /// Creates (or truncates) `path`, creating its directory, and writes the header.
+  /// Throws shellflow::InputError when a name is empty, equals "time", contains a comma,
+  /// a double quote or a control character (line break, tab, ...), starts or ends with a
+  /// space, or is given twice; shellflow::Error when the file cannot be written.
+  ProbeWriter(std::filesystem::path path, std::vector<std::string> names);
+
+  /// Writes the row `time,values[0],values[1],...` and flushes it. Throws shellflow::Error
+  /// when `values` does not hold one value per name, when `time` is not finite, or when
+  /// the write fails. Values that are NaN or infinite are written as `nan`, `inf`, `-inf`.
+  void append(double time, std::span<const double> values);
+
+  const std::filesystem::path& path() const { return path_; }
+  const std::vector<std::string>& names() const { return names_; }
+  /// Rows written so far (not counting the header).
+  std::size_t rows() const { return rows_; }
+
+ private:
+  std::filesystem::path path_;
+  std::vector<std::string> names_;
+  std::ofstream out_;
+  std::size_t rows_ = 0;
+};
+
+}  // namespace shellflow::io

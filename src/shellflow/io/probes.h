@@ -1,0 +1,46 @@
+#pragma once
+// Probes declared in a case file, sampled after every step and written to
+// OUTDIR/probes.csv (`time,<probe names...>`).
+#include <filesystem>
+#include <memory>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "shellflow/io/case.h"
+#include "shellflow/io/case_meshes.h"
+#include "shellflow/io/probe_writer.h"
+
+namespace shellflow::io {
+
+/// A point field of one mesh, as a solver exposes it to the probes: `components` values per
+/// node, node after node.
+struct FieldView {
+  std::string_view mesh;      ///< "fluid", "space", "shell"
+  std::string_view quantity;  ///< "displacement", "pressure", ...
+  int components = 1;
+  std::span<const double> values;
+};
+
+class ProbeSet {
+ public:
+  /// Locates every probe in its mesh once: a point probe in a tetrahedral mesh must lie in
+  /// a cell; in a shell mesh it is moved to the closest point of the surface, which must lie
+  /// within 1e-6 of the mesh size. Throws InputError at the probe's line otherwise.
+  ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
+           const std::filesystem::path& csv_path);
+  ~ProbeSet();
+
+  /// Appends one CSV row. Every probed field must be among `fields`.
+  void record(double time, std::span<const FieldView> fields);
+  /// Values of the probes for these fields, in declaration order (what record() writes).
+  std::vector<double> sample(std::span<const FieldView> fields) const;
+  std::size_t size() const;
+
+ private:
+  struct Located;
+  std::vector<Located> probes_;
+  ProbeWriter writer_;
+};
+
+}  // namespace shellflow::io

@@ -1,0 +1,68 @@
+#include "shellflow/io/pvd_writer.h"
+
+#include <bit>
+#include <cmath>
+#include <ostream>
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+#include "shellflow/io/vtu_writer.h"
+
+namespace shellflow::io {
+
+PvdWriter::PvdWriter(std::filesystem::path dir, std::string basename) {
+  if (basename.empty() || basename.find('/') != std::string::npos ||
+      basename.find('\\') != std::string::npos) {
+    throw_input_error("output name '{}' must be a non-empty file name without '/' (in "
+                      "directory {})",
+                      basename, dir.string());
+  }
+  path_ = std::move(dir) / (std::move(basename) + ".pvd");
+  write();
+}
+
+void PvdWriter::add(double time, const std::string& vtu_relative_path, int part) {
+  if (!std::isfinite(time)) {
+    throw Error(fmt::format("{}: time {} of dataset '{}' is not finite", path_.string(), time,
+                            vtu_relative_path));
+  }
+  if (part < 0) {
+    throw Error(fmt::format("{}: dataset '{}' has negative part {}", path_.string(),
+                            vtu_relative_path, part));
+  }
+  if (vtu_relative_path.empty() || std::filesystem::path(vtu_relative_path).is_absolute()) {
+    throw Error(fmt::format("{}: dataset path '{}' must be relative to the .pvd's directory",
+                            path_.string(), vtu_relative_path));
+  }
+  bool replaced = false;
+  for (auto& e : entries_) {
+    if (e.time == time && e.part == part) {
+      e.file = vtu_relative_path;
+      replaced = true;
+    }
+  }
+  if (!replaced) entries_.push_back({time, vtu_relative_path, part});
+  write();
+}
+
+void PvdWriter::write() const {
+  write_file_atomically(path_, [this](std::ostream& os) {
+    std::string xml;
+    xml += "<?xml version=\"1.0\"?>\n";
+    xml += fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n",
+                       std::endian::native == std::endian::little ? "LittleEndian"
+                                                                   : "BigEndian");
+    xml += "  <Collection>\n";
+    for (const auto& e : entries_) {
+      xml += fmt::format(
+          "    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"{}\" file=\"{}\"/>\n", e.time,
+          e.part, xml_escape(e.file));
+    }
+    xml += "  </Collection>\n";
+    xml += "</VTKFile>\n";
+    os << xml;
+  });
+}
+
+}  // namespace shellflow::io

@@ -1,0 +1,246 @@
+#include "shellflow/mesh/gmsh_io.h"
+
+#include <gmsh.h>
+
+#include <algorithm>
+#include <mutex>
+#include <numeric>
+#include <unordered_map>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::mesh {
+namespace {
+
+/// Gmsh has one global state: initialise it once per use, serialise all uses, and turn
+/// its errors (which it throws as various types) into InputError naming the file.
+class GmshSession {
+ public:
+  explicit GmshSession(bool verbose) : lock_(mutex()) {
+    gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
+    gmsh::option::setNumber("General.Terminal", verbose ? 1 : 0);
+    gmsh::option::setNumber("General.Verbosity", verbose ? 5 : 2);
+  }
+  ~GmshSession() { gmsh::finalize(); }
+  GmshSession(const GmshSession&) = delete;
+  GmshSession& operator=(const GmshSession&) = delete;
+
+ private:
+  static std::mutex& mutex() {
+    static std::mutex m;
+    return m;
+  }
+  std::lock_guard<std::mutex> lock_;
+};
+
+std::string last_gmsh_error() {
+  std::string message;
+  try {
+    gmsh::logger::getLastError(message);
+  } catch (...) {
+  }
+  return message.empty() ? std::string("unknown Gmsh error") : message;
+}
+
+/// Runs `f`, converting any Gmsh failure into an InputError about `file`.
+template <class F>
+void with_gmsh(const std::filesystem::path& file, std::string_view action, F&& f) {
+  try {
+    f();
+  } catch (const Error&) {
+    throw;
+  } catch (...) {
+    throw_input_error("{}: Gmsh failed to {}: {}", file.string(), action, last_gmsh_error());
+  }
+}
+
+void require_file(const std::filesystem::path& file) {
+  if (!std::filesystem::is_regular_file(file)) {
+    throw_input_error("{}: file not found (check the path; relative paths are relative to the "
+                      "case file)",
+                      file.string());
+  }
+}
+
+/// Copies the model currently loaded in Gmsh into a Mesh: the cells of the highest
+/// dimension (one element type), the nodes they use (renumbered 0..n-1 in Gmsh tag
+/// order), and every named physical group.
+Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
+  Mesh mesh;
+  mesh.name = std::move(mesh_name);
+  mesh.source = source.string();
+
+  // Cells: elements of the highest dimension present.
+  std::vector<int> types;
+  int dim = -1;
+  for (int d = 3; d >= 1 && dim < 0; --d) {
+    std::vector<std::vector<std::size_t>> tags, nodes;
+    gmsh::model::mesh::getElements(types, tags, nodes, d, -1);
+    if (!types.empty()) dim = d;
+  }
+  if (dim < 0) throw_input_error("{}: the file holds no mesh elements", mesh.source);
+  if (types.size() != 1) {
+    throw_input_error("{}: the {}-D mesh mixes {} element types; shellflow needs one type per "
+                      "mesh (no quads/prisms/pyramids: mesh without Recombine)",
+                      mesh.source, dim, types.size());
+  }
+  if (!is_supported_element_type(types[0])) {
+    std::string name;
+    int edim = 0, order = 0, nn = 0, npn = 0;
+    std::vector<double> local;
+    gmsh::model::mesh::getElementProperties(types[0], name, edim, order, nn, local, npn);
+    throw_input_error("{}: element type '{}' (Gmsh type {}) is not supported; use triangles or "
+                      "tetrahedra of order 1, 2 or 3 (no Recombine, complete elements)",
+                      mesh.source, name, types[0]);
+  }
+  mesh.cells.type = static_cast<ElementType>(types[0]);
+
+  std::vector<std::size_t> cell_tags, cell_nodes;
+  gmsh::model::mesh::getElementsByType(types[0], cell_tags, cell_nodes, -1);
+
+  // Nodes used by the cells, in increasing tag order.
+  std::vector<std::size_t> used(cell_nodes);
+  std::sort(used.begin(), used.end());
+  used.erase(std::unique(used.begin(), used.end()), used.end());
+  std::unordered_map<std::size_t, Index> index_of;
+  index_of.reserve(used.size());
+  for (std::size_t i = 0; i < used.size(); ++i) index_of.emplace(used[i], static_cast<Index>(i));
+
+  std::vector<std::size_t> all_tags;
+  std::vector<double> coords, param;
+  gmsh::model::mesh::getNodes(all_tags, coords, param, -1, -1, false, false);
+  mesh.nodes.assign(used.size(), Vec3::Zero());
+  mesh.node_tags = used;
+  for (std::size_t i = 0; i < all_tags.size(); ++i) {
+    auto it = index_of.find(all_tags[i]);
+    if (it != index_of.end()) {
+      mesh.nodes[static_cast<std::size_t>(it->second)] =
+          Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
+    }
+  }
+
+  mesh.cells.connectivity.resize(cell_nodes.size());
+  std::transform(cell_nodes.begin(), cell_nodes.end(), mesh.cells.connectivity.begin(),
+                 [&](std::size_t tag) { return index_of.at(tag); });
+  std::unordered_map<std::size_t, Index> cell_index_of;
+  cell_index_of.reserve(cell_tags.size());
+  for (std::size_t i = 0; i < cell_tags.size(); ++i)
+    cell_index_of.emplace(cell_tags[i], static_cast<Index>(i));
+
+  // Physical groups.
+  gmsh::vectorpair groups;
+  gmsh::model::getPhysicalGroups(groups, -1);
+  for (const auto& [gdim, gtag] : groups) {
+    PhysicalGroup group;
+    gmsh::model::getPhysicalName(gdim, gtag, group.name);
+    if (group.name.empty()) group.name = std::to_string(gtag);
+    group.dim = gdim;
+    group.tag = gtag;
+    if (gdim > dim) continue;  // e.g. a volume group of a surface-only mesh
+
+    std::vector<int> entities;
+    gmsh::model::getEntitiesForPhysicalGroup(gdim, gtag, entities);
+    bool type_set = false;
+    for (int entity : entities) {
+      std::vector<int> etypes;
+      std::vector<std::vector<std::size_t>> etags, enodes;
+      gmsh::model::mesh::getElements(etypes, etags, enodes, gdim, entity);
+      for (std::size_t t = 0; t < etypes.size(); ++t) {
+        if (gdim == 0) continue;
+        if (!is_supported_element_type(etypes[t])) continue;
+        if (type_set && static_cast<int>(group.elements.type) != etypes[t]) {
+          throw_input_error("{}: physical group '{}' mixes element types", mesh.source,
+                            group.name);
+        }
+        group.elements.type = static_cast<ElementType>(etypes[t]);
+        type_set = true;
+        for (std::size_t tag : enodes[t]) {
+          auto it = index_of.find(tag);
+          if (it == index_of.end()) {
+            throw_input_error("{}: physical group '{}' has a node (tag {}) that no {}-D element "
+                              "uses; the group must lie on the mesh's boundary",
+                              mesh.source, group.name, tag, dim);
+          }
+          group.elements.connectivity.push_back(it->second);
+        }
+        if (gdim == dim) {
+          for (std::size_t tag : etags[t]) group.cells.push_back(cell_index_of.at(tag));
+        }
+      }
+    }
+    std::vector<std::size_t> node_tags;
+    std::vector<double> node_coords;
+    gmsh::model::mesh::getNodesForPhysicalGroup(gdim, gtag, node_tags, node_coords);
+    for (std::size_t tag : node_tags) {
+      auto it = index_of.find(tag);
+      if (it != index_of.end()) group.nodes.push_back(it->second);
+    }
+    std::sort(group.nodes.begin(), group.nodes.end());
+    group.nodes.erase(std::unique(group.nodes.begin(), group.nodes.end()), group.nodes.end());
+    std::sort(group.cells.begin(), group.cells.end());
+    mesh.groups.push_back(std::move(group));
+  }
+  return mesh;
+}
+
+}  // namespace
+
+Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options,
+                   std::string mesh_name) {
+  require_file(geometry);
+  if (options.order < 1 || options.order > 3) {
+    throw_input_error("{}: element order {} is not supported; use 1, 2 or 3", geometry.string(),
+                      options.order);
+  }
+  if (!(options.size_factor > 0.0)) {
+    throw_input_error("{}: mesh size factor must be > 0, got {}", geometry.string(),
+                      options.size_factor);
+  }
+  GmshSession session(options.verbose);
+  Mesh mesh;
+  with_gmsh(geometry, "mesh the geometry", [&] {
+    gmsh::open(geometry.string());
+    gmsh::option::setNumber("Mesh.MeshSizeFactor", options.size_factor);
+    // Complete elements (tet20 has its 4 face nodes), high-order nodes on the geometry.
+    gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 0);
+    gmsh::model::mesh::generate(options.dim > 0 ? options.dim : gmsh::model::getDimension());
+    gmsh::model::mesh::setOrder(options.order);
+    if (options.msh_output) {
+      gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
+      gmsh::option::setNumber("Mesh.Binary", 0);
+      gmsh::write(options.msh_output->string());
+    }
+    mesh = extract_model(geometry, std::move(mesh_name));
+  });
+  return mesh;
+}
+
+Mesh read_msh(const std::filesystem::path& msh, std::string mesh_name) {
+  require_file(msh);
+  GmshSession session(false);
+  Mesh mesh;
+  with_gmsh(msh, "read the mesh", [&] {
+    gmsh::open(msh.string());
+    mesh = extract_model(msh, std::move(mesh_name));
+  });
+  return mesh;
+}
+
+std::vector<std::string> physical_group_names(const std::filesystem::path& file) {
+  require_file(file);
+  GmshSession session(false);
+  std::vector<std::string> names;
+  with_gmsh(file, "read the physical groups", [&] {
+    gmsh::open(file.string());
+    gmsh::vectorpair groups;
+    gmsh::model::getPhysicalGroups(groups, -1);
+    for (const auto& [dim, tag] : groups) {
+      std::string name;
+      gmsh::model::getPhysicalName(dim, tag, name);
+      names.push_back(name.empty() ? std::to_string(tag) : name);
+    }
+  });
+  return names;
+}
+
+}  // namespace shellflow::mesh

@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""Command-line tests of `shellflow` (run by CTest from the source tree).
+
+The executable comes from $SHELLFLOW_EXE. Case variants with errors are written to a
+temporary directory, with their mesh paths made absolute.
+"""
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import unittest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+EXE = os.environ.get("SHELLFLOW_EXE", os.path.join(ROOT, "build", "release", "app", "shellflow"))
+PANEL = os.path.join(ROOT, "cases", "panel_flutter", "panel_flutter.yaml")
+
+
+def shellflow(*args):
+    return subprocess.run([EXE, *args], capture_output=True, text=True, timeout=600)
+
+
+def panel_case_text():
+    with open(PANEL) as f:
+        text = f.read()
+    folder = os.path.dirname(PANEL)
+    return re.sub(r"geo: (\w+\.geo)", lambda m: "geo: " + os.path.join(folder, m.group(1)), text)
+
+
+def line_of(text, needle):
+    for number, line in enumerate(text.splitlines(), start=1):
+        if needle in line:
+            return number
+    raise AssertionError(f"'{needle}' not in the case text")
+
+
+class CheckCommand(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def write_case(self, text):
+        path = os.path.join(self.tmp.name, "bad.yaml")
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def assert_one_line_error(self, text, key, line_needle):
+        path = self.write_case(text)
+        r = shellflow("check", path)
+        self.assertNotEqual(r.returncode, 0, r.stdout)
+        lines = r.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, r.stderr)
+        expected = f"{path}:{line_of(text, line_needle)}: {key}"
+        self.assertIn(expected, lines[0])
+        return lines[0]
+
+    def test_reference_case_is_valid(self):
+        r = shellflow("check", PANEL)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("OK", r.stdout)
+
+    def test_misspelled_key(self):
+        text = panel_case_text().replace("thickness: 1.35e-3", "thicknes: 1.35e-3")
+        message = self.assert_one_line_error(text, "shell.thicknes", "thicknes:")
+        self.assertIn("thickness", message)  # the suggestion
+
+    def test_missing_physical_group(self):
+        text = panel_case_text().replace("group: leading_edge", "group: leading_egde")
+        message = self.assert_one_line_error(text, "shell.supports[0].group", "leading_egde")
+        self.assertIn("leading_edge", message)
+
+    def test_negative_thickness(self):
+        text = panel_case_text().replace("thickness: 1.35e-3", "thickness: -1.35e-3")
+        self.assert_one_line_error(text, "shell.thickness", "thickness:")
+
+    def test_missing_case_file_is_a_usage_error(self):
+        r = shellflow("check", os.path.join(self.tmp.name, "none.yaml"))
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("none.yaml", r.stderr)
+
+    def test_version_and_help(self):
+        r = shellflow("--version")
+        self.assertEqual(r.returncode, 0)
+        self.assertRegex(r.stdout, r"shellflow \d+\.\d+\.\d+")
+        for sub in ("run", "mesh", "check"):
+            r = shellflow(sub, "--help")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("case", r.stdout.lower())
+        self.assertIn("--json", shellflow("mesh", "--help").stdout)
+
+
+class MeshAndRunCommands(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.out = os.path.join(cls.tmp.name, "panel")
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def test_1_mesh_json_reports_the_papers_sizes(self):
+        r = shellflow("mesh", PANEL, "-o", self.out, "--json", "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        report = json.loads(r.stdout)
+        expected = {  # (nodes, elements, element type), paper's sizes, +-15 %
+            "fluid": ((8600, 8600), (25000, 30000), "tet4"),
+            "space": ((1000, 1000), (170, 170), "tet20"),
+            "shell": ((244, 244), (40, 40), "tri10"),
+        }
+        for key, ((n_lo, n_hi), (e_lo, e_hi), etype) in expected.items():
+            m = report[key]
+            self.assertEqual(m["element_type"], etype)
+            self.assertGreaterEqual(m["nodes"], 0.85 * n_lo, key)
+            self.assertLessEqual(m["nodes"], 1.15 * n_hi, key)
+            self.assertGreaterEqual(m["elements"], 0.85 * e_lo, key)
+            self.assertLessEqual(m["elements"], 1.15 * e_hi, key)
+            self.assertGreater(m["min_quality"], 0.0, key)
+        self.assertEqual((report["shell"]["nodes"], report["shell"]["elements"]), (244, 40))
+
+    def test_2_mesh_files_open_in_meshio(self):
+        import meshio
+
+        with open(os.path.join(self.out, "meshes.json")) as f:
+            report = json.load(f)
+        for key in ("fluid", "space", "shell"):
+            for ext in (".vtu", ".msh"):
+                m = meshio.read(os.path.join(self.out, key + ext))
+                cells = sum(len(c.data) for c in m.cells if c.dim == (2 if key == "shell" else 3))
+                self.assertEqual(cells, report[key]["elements"], key + ext)
+                self.assertEqual(len(m.points), report[key]["nodes"], key + ext)
+
+    def test_3_run_writes_fields_probes_and_plot(self):
+        r = shellflow("run", PANEL, "-o", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(self.out, "probes.csv"), newline="") as f:
+            rows = list(csv.reader(f))
+        self.assertEqual(rows[0], ["time", "w_x0600", "w_x0625", "p_panel_mean"])
+        self.assertEqual([float(v) for v in rows[1]], [0.0, 0.0, 0.0, 28000.0])
+        for key in ("fluid", "space", "shell"):
+            self.assertTrue(os.path.exists(os.path.join(self.out, key + ".pvd")))
+        self.assertTrue(os.path.getsize(os.path.join(self.out, "probes.png")) > 1000)
+
+
+if __name__ == "__main__":
+    unittest.main()

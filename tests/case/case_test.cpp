@@ -1,0 +1,408 @@
+// Case files: a complete case parses to the expected values (defaults applied), and each
+// kind of bad input stops with `FILE:LINE: key.path: message`.
+#include "shellflow/io/case.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::io {
+namespace {
+
+const std::string kDataDir = SHELLFLOW_TEST_DATA_DIR;
+
+std::filesystem::path data(std::string_view name) { return kDataDir + "/" + std::string(name); }
+
+// The message read_case() throws for the data file `name` ("" and a failure if none).
+std::string case_error(std::string_view name) {
+  try {
+    read_case(data(name));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << name << ": no InputError thrown";
+  return {};
+}
+
+// `FILE:LINE: rest` for the data file `name`.
+std::string at(std::string_view name, int line, std::string_view rest) {
+  return data(name).string() + ":" + std::to_string(line) + ": " + std::string(rest);
+}
+
+TEST(ReadCase, FullCaseParsesWithDefaultsApplied) {
+  const Case c = read_case(data("full.yaml"));
+  EXPECT_EQ(c.file, data("full.yaml"));
+  EXPECT_EQ(c.name, "panel_flutter_coarse");
+  EXPECT_EQ(c.description, "Supersonic panel flutter, coarse meshes");
+
+  ASSERT_TRUE(c.meshes.fluid && c.meshes.space && c.meshes.shell);
+  EXPECT_EQ(c.meshes.fluid->key, "fluid");
+  EXPECT_EQ(c.meshes.fluid->format, MeshFormat::geo);
+  EXPECT_EQ(c.meshes.fluid->file, data("fluid_slab.geo").lexically_normal());
+  EXPECT_EQ(c.meshes.fluid->as_written, "fluid_slab.geo");
+  EXPECT_EQ(c.meshes.fluid->order, 1);  // default for the fluid mesh
+  EXPECT_DOUBLE_EQ(c.meshes.fluid->size_factor, 2.0);
+  EXPECT_EQ(c.meshes.fluid->where.line, 5);
+  EXPECT_EQ(c.meshes.fluid->where.key_path, "meshes.fluid");
+  EXPECT_EQ(c.meshes.space->order, 3);  // default for the space mesh
+  EXPECT_DOUBLE_EQ(c.meshes.space->size_factor, 1.0);
+  EXPECT_EQ(c.meshes.shell->order, 2);
+  EXPECT_EQ(c.meshes.find("shell"), &*c.meshes.shell);
+  EXPECT_EQ(c.meshes.find("solid"), nullptr);
+
+  ASSERT_TRUE(c.shell.has_value());
+  EXPECT_DOUBLE_EQ(c.shell->thickness, 1.35e-3);
+  EXPECT_DOUBLE_EQ(c.shell->material.young_modulus, 77.28e9);
+  EXPECT_DOUBLE_EQ(c.shell->material.poisson_ratio, 0.33);
+  EXPECT_DOUBLE_EQ(c.shell->material.density, 2710.0);
+  ASSERT_EQ(c.shell->supports.size(), 2u);
+  EXPECT_EQ(c.shell->supports[0].group, "leading_edge");
+  EXPECT_EQ(c.shell->supports[0].type, SupportType::clamped);
+  EXPECT_EQ(c.shell->supports[1].group, "side");
+  EXPECT_EQ(c.shell->supports[1].type, SupportType::sliding);
+  EXPECT_EQ(c.shell->supports[1].direction, Vec3(0, 0, 1));  // normalised
+  EXPECT_EQ(c.shell->supports[1].where.line, 13);
+  EXPECT_EQ(c.shell->supports[1].where.key_path, "shell.supports[1]");
+
+  ASSERT_TRUE(c.fluid.has_value());
+  EXPECT_DOUBLE_EQ(c.fluid->gas.gamma, 1.4);            // default
+  EXPECT_DOUBLE_EQ(c.fluid->gas.gas_constant, 287.05);  // default
+  EXPECT_DOUBLE_EQ(c.fluid->free_stream.density, 0.339);
+  EXPECT_DOUBLE_EQ(c.fluid->free_stream.pressure, 28000.0);
+  EXPECT_DOUBLE_EQ(c.fluid->free_stream.mach, 2.3);
+  EXPECT_EQ(c.fluid->free_stream.direction, Vec3(1, 0, 0));  // normalised
+  ASSERT_EQ(c.fluid->boundaries.size(), 3u);
+  EXPECT_EQ(c.fluid->boundaries[0].type, FluidBoundaryType::supersonic_inflow);
+  EXPECT_EQ(c.fluid->boundaries[1].type, FluidBoundaryType::supersonic_outflow);
+  EXPECT_EQ(c.fluid->boundaries[2].group, "panel");
+  EXPECT_EQ(c.fluid->boundaries[2].type, FluidBoundaryType::slip_wall);
+
+  ASSERT_EQ(c.probes.size(), 4u);
+  const Probe& w = c.probes[0];
+  EXPECT_EQ(w.name, "w_075");
+  EXPECT_EQ(w.field, "shell.displacement");
+  EXPECT_EQ(w.mesh, "shell");
+  EXPECT_EQ(w.quantity, "displacement");
+  EXPECT_EQ(w.component, ProbeComponent::y);
+  EXPECT_EQ(w.location, ProbeLocation::point);
+  EXPECT_EQ(w.point, Vec3(0.625, 0.0, 0.0125));
+  const Probe& p = c.probes[1];
+  EXPECT_EQ(p.component, ProbeComponent::scalar);
+  EXPECT_EQ(p.location, ProbeLocation::group);
+  EXPECT_EQ(p.group, "panel");
+  EXPECT_EQ(p.reduce, ProbeReduce::max);
+  const Probe& v = c.probes[2];
+  EXPECT_EQ(v.mesh, "space");
+  EXPECT_EQ(v.component, ProbeComponent::magnitude);  // default for vectors
+  EXPECT_EQ(v.location, ProbeLocation::node);
+  EXPECT_EQ(v.node, 3);
+  EXPECT_EQ(c.probes[3].reduce, ProbeReduce::mean);  // default
+  EXPECT_EQ(c.probes[3].where.line, 26);
+
+  EXPECT_EQ(c.output.directory, std::filesystem::path("out/panel_flutter_coarse"));
+  EXPECT_EQ(c.output.every, 10);
+
+  // Every group, with the mesh it belongs to and where it was named, in file order.
+  const std::vector<std::pair<std::string, std::string>> groups = {
+      {"leading_edge", "shell"}, {"side", "shell"},  {"inflow", "fluid"},
+      {"outflow", "fluid"},      {"panel", "fluid"}, {"panel", "fluid"},
+      {"panel_surface", "shell"}};
+  ASSERT_EQ(c.group_references.size(), groups.size());
+  for (std::size_t i = 0; i < groups.size(); ++i) {
+    EXPECT_EQ(c.group_references[i].group, groups[i].first) << i;
+    EXPECT_EQ(c.group_references[i].mesh, groups[i].second) << i;
+  }
+  EXPECT_EQ(c.group_references[0].where.message("m"),
+            at("full.yaml", 12, "shell.supports[0].group: m"));
+  EXPECT_EQ(c.group_references[5].where.key_path, "probes[1].group");
+}
+
+TEST(ReadCase, MinimalCaseNeedsOnlyANameAndOneMesh) {
+  const Case c = read_case(data("minimal.yaml"));
+  EXPECT_EQ(c.name, "mesh_only");
+  ASSERT_TRUE(c.meshes.space.has_value());
+  EXPECT_FALSE(c.meshes.fluid || c.meshes.shell || c.shell || c.fluid);
+  EXPECT_EQ(c.meshes.space->format, MeshFormat::msh);
+  EXPECT_TRUE(c.probes.empty());
+  EXPECT_EQ(c.output.directory, std::filesystem::path("out/mesh_only"));
+  EXPECT_EQ(c.output.every, 1);
+}
+
+TEST(ReadCase, OutputDirectoryAndDescriptionAsGiven) {
+  const Case c = read_case_string(
+      "name: t\n"
+      "description: 'free text: with a colon'\n"
+      "meshes: { fluid: { msh: panel_strip.msh } }\n"
+      "output: { directory: results/run-1 }\n",
+      data("inline.yaml"));
+  EXPECT_EQ(c.description, "free text: with a colon");
+  EXPECT_EQ(c.meshes.fluid->order, 0);  // a .msh is used as it is
+  EXPECT_EQ(c.output.directory, std::filesystem::path("results/run-1"));
+  EXPECT_EQ(c.output.every, 1);
+}
+
+// The complete example of docs/case-format.md parses (its mesh files exist in data/).
+TEST(ReadCase, DocumentationExampleParses) {
+  std::ifstream in(std::string(SHELLFLOW_SOURCE_DIR) + "/docs/case-format.md");
+  ASSERT_TRUE(in) << "docs/case-format.md not found";
+  std::stringstream buffer;
+  buffer << in.rdbuf();
+  const std::string doc = buffer.str();
+  const auto section = doc.find("## Complete example");
+  ASSERT_NE(section, std::string::npos);
+  const auto begin = doc.find("```yaml\n", section);
+  ASSERT_NE(begin, std::string::npos);
+  const auto end = doc.find("```", begin + 8);
+  ASSERT_NE(end, std::string::npos);
+  const Case c = read_case_string(doc.substr(begin + 8, end - begin - 8), data("doc_example.yaml"));
+  EXPECT_EQ(c.name, "panel_flutter_coarse");
+  ASSERT_TRUE(c.shell && c.fluid);
+  EXPECT_EQ(c.shell->supports.size(), 3u);
+  EXPECT_EQ(c.probes.size(), 3u);
+  EXPECT_EQ(c.output.every, 10);
+}
+
+TEST(ReadCase, MisspelledTopLevelKeyIsUnknownWithSuggestion) {
+  EXPECT_EQ(case_error("unknown_key_top.yaml"),
+            at("unknown_key_top.yaml", 4, "outptu: unknown key; did you mean 'output'?"));
+}
+
+TEST(ReadCase, MisspelledNestedKeyIsUnknownWithSuggestion) {
+  EXPECT_EQ(
+      case_error("unknown_key_nested.yaml"),
+      at("unknown_key_nested.yaml", 5, "meshes.fluid.ordr: unknown key; did you mean 'order'?"));
+}
+
+TEST(ReadCase, MisspelledRequiredKeyIsReportedWhereItIs) {
+  EXPECT_EQ(
+      case_error("misspelled_required.yaml"),
+      at("misspelled_required.yaml", 5, "shell.thicknes: unknown key; did you mean 'thickness'?"));
+}
+
+TEST(ReadCase, WrongTypeNamesTheKeyAndTheExpectedType) {
+  EXPECT_EQ(case_error("wrong_type_number.yaml"),
+            at("wrong_type_number.yaml", 5, "shell.thickness: expected a number, got 'abc'"));
+  EXPECT_EQ(case_error("wrong_type_list.yaml"),
+            at("wrong_type_list.yaml", 7, "shell.supports: expected a list, got a map"));
+}
+
+TEST(ReadCase, MissingRequiredKeyNamesTheMapAndTheKey) {
+  EXPECT_EQ(case_error("missing_required.yaml"),
+            at("missing_required.yaml", 3, "meshes.space: missing required key 'geo' or 'msh'"));
+}
+
+TEST(ReadCase, NegativeThicknessIsOutOfRange) {
+  EXPECT_EQ(case_error("negative_thickness.yaml"),
+            at("negative_thickness.yaml", 6, "shell.thickness: must be > 0 m, got -0.001"));
+}
+
+TEST(ReadCase, PoissonRatioOutOfRange) {
+  EXPECT_EQ(case_error("poisson_out_of_range.yaml"),
+            at("poisson_out_of_range.yaml", 8,
+               "shell.material.poisson_ratio: must be in (-1, 0.5), got 0.6"));
+}
+
+TEST(ReadCase, BothGeoAndMshIsAnError) {
+  EXPECT_EQ(case_error("geo_and_msh.yaml"),
+            at("geo_and_msh.yaml", 4,
+               "meshes.shell: both 'geo' and 'msh' given; expected exactly one of them"));
+}
+
+TEST(ReadCase, MissingMeshFileNamesTheKeyAndThePathLookedFor) {
+  EXPECT_EQ(case_error("missing_mesh_file.yaml"),
+            at("missing_mesh_file.yaml", 4,
+               "meshes.shell.geo: file not found: 'panel_stip.geo' (looked for '" +
+                   data("panel_stip.geo").lexically_normal().string() +
+                   "'); paths are relative to the case file's directory"));
+}
+
+TEST(ReadCase, DuplicateProbeNamesAreErrors) {
+  EXPECT_EQ(case_error("duplicate_probe.yaml"),
+            at("duplicate_probe.yaml", 7,
+               "probes[2].name: duplicate probe name 'w_mid' (first used at line 5); expected "
+               "unique names"));
+}
+
+TEST(ReadCase, YamlSyntaxErrorHasFileAndLine) {
+  const std::string message = case_error("syntax_error.yaml");
+  const std::string prefix = data("syntax_error.yaml").string() + ":";
+  ASSERT_EQ(message.rfind(prefix, 0), 0u) << message;
+  // yaml-cpp notices the unclosed `{` of line 3 on line 4 or 5; either names the place.
+  const int line = std::stoi(message.substr(prefix.size()));
+  EXPECT_GE(line, 3) << message;
+  EXPECT_LE(line, 5) << message;
+  EXPECT_NE(message.find(": YAML syntax error: "), std::string::npos) << message;
+}
+
+TEST(ReadCase, MissingCaseFile) {
+  EXPECT_EQ(case_error("no_such_case.yaml"),
+            data("no_such_case.yaml").string() + ": cannot open case file (no such file)");
+}
+
+TEST(CheckPhysicalGroups, MissingGroupIsReportedAtItsLine) {
+  const Case c = read_case(data("group_typo.yaml"));
+  int calls = 0;
+  const auto groups = [&](std::string_view mesh) {
+    ++calls;
+    EXPECT_EQ(mesh, "shell");
+    return std::vector<std::string>{"leading_edge", "trailing_edge", "panel"};
+  };
+  try {
+    check_physical_groups(c, groups);
+    ADD_FAILURE() << "no InputError thrown";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              at("group_typo.yaml", 10,
+                 "shell.supports[2].group: physical group 'leadng_edge' not found in mesh "
+                 "'shell' (panel_strip.geo); did you mean 'leading_edge'? available: "
+                 "leading_edge, trailing_edge, panel"));
+  }
+  EXPECT_EQ(calls, 1);  // asked once per mesh
+}
+
+TEST(CheckPhysicalGroups, PassesWhenEveryGroupExists) {
+  const Case c = read_case(data("full.yaml"));
+  const std::map<std::string, std::vector<std::string>, std::less<>> groups = {
+      {"shell", {"leading_edge", "side", "panel_surface"}},
+      {"fluid", {"inflow", "outflow", "panel"}}};
+  EXPECT_NO_THROW(
+      check_physical_groups(c, [&](std::string_view mesh) { return groups.find(mesh)->second; }));
+  EXPECT_THROW(
+      check_physical_groups(c, [](std::string_view) { return std::vector<std::string>{}; }),
+      InputError);
+}
+
+// Smaller error classes, from text (mesh paths resolve against the data directory).
+std::string text_error(const std::string& text) {
+  try {
+    read_case_string(text, data("inline.yaml"));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no InputError thrown for:\n" << text;
+  return {};
+}
+
+const std::string kShellHead =
+    "name: t\n"
+    "meshes: { shell: { geo: panel_strip.geo } }\n";
+
+TEST(ReadCaseErrors, NamesMustBeFileSafe) {
+  EXPECT_EQ(text_error("name: my case\nmeshes: { shell: { geo: panel_strip.geo } }\n"),
+            at("inline.yaml", 1,
+               "name: must contain only letters, digits, '_', '.' and '-', got 'my case'"));
+}
+
+TEST(ReadCaseErrors, MeshesNeedAtLeastOneMesh) {
+  EXPECT_EQ(text_error("name: t\nmeshes: {}\n"),
+            at("inline.yaml", 2,
+               "meshes: no mesh given; expected at least one of 'fluid', 'space', 'shell'"));
+  EXPECT_EQ(text_error("name: t\nmeshes:\n  fliud: { geo: fluid_slab.geo }\n"),
+            at("inline.yaml", 3, "meshes.fliud: unknown key; did you mean 'fluid'?"));
+}
+
+TEST(ReadCaseErrors, MeshOrderAndExtension) {
+  EXPECT_EQ(text_error("name: t\nmeshes: { shell: { geo: panel_strip.geo, order: 4 } }\n"),
+            at("inline.yaml", 2, "meshes.shell.order: must be in [1, 3], got 4"));
+  EXPECT_EQ(
+      text_error("name: t\nmeshes: { shell: { geo: panel_strip.msh } }\n"),
+      at("inline.yaml", 2, "meshes.shell.geo: expected a Gmsh .geo file, got 'panel_strip.msh'"));
+  EXPECT_EQ(text_error("name: t\nmeshes: { shell: { msh: panel_strip.msh, order: 2 } }\n"),
+            at("inline.yaml", 2,
+               "meshes.shell.order: applies only to meshes given by 'geo'; a .msh file is used "
+               "as it is"));
+}
+
+TEST(ReadCaseErrors, SectionsNeedTheirMesh) {
+  EXPECT_EQ(
+      text_error(kShellHead + "fluid:\n  free_stream: { density: 1, pressure: 1, mach: 2 }\n"),
+      at("inline.yaml", 3,
+         "fluid: needs a fluid mesh; expected 'meshes.fluid' with 'geo' or 'msh'"));
+}
+
+TEST(ReadCaseErrors, SupportTypesAndSlidingDirection) {
+  const std::string shell = kShellHead +
+                            "shell:\n"
+                            "  thickness: 1e-3\n"
+                            "  material: { young_modulus: 1e9, poisson_ratio: 0.3, density: 1 }\n"
+                            "  supports:\n";
+  EXPECT_EQ(text_error(shell + "    - { group: a, type: clampd }\n"),
+            at("inline.yaml", 7,
+               "shell.supports[0].type: unknown value 'clampd'; did you mean 'clamped'? (one of: "
+               "clamped, simply_supported, symmetry, sliding, prescribed)"));
+  EXPECT_EQ(text_error(shell + "    - { group: a, type: sliding }\n"),
+            at("inline.yaml", 7, "shell.supports[0]: missing required key 'direction'"));
+  EXPECT_EQ(text_error(shell + "    - { group: a, type: sliding, direction: [0, 0, 0] }\n"),
+            at("inline.yaml", 7,
+               "shell.supports[0].direction: must be a non-zero vector [x, y, z], got [0, 0, 0]"));
+  EXPECT_EQ(text_error(shell + "    - { group: a, type: clamped, direction: [1, 0, 0] }\n"),
+            at("inline.yaml", 7,
+               "shell.supports[0].direction: applies only to supports of type 'sliding'"));
+}
+
+TEST(ReadCaseErrors, FluidValues) {
+  const std::string head =
+      "name: t\n"
+      "meshes: { fluid: { geo: fluid_slab.geo } }\n"
+      "fluid:\n";
+  EXPECT_EQ(text_error(head + "  gas: { gamma: 1.0 }\n"
+                              "  free_stream: { density: 1, pressure: 1, mach: 2 }\n"),
+            at("inline.yaml", 4, "fluid.gas.gamma: must be > 1, got 1.0"));
+  EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 0, mach: 2 }\n"),
+            at("inline.yaml", 4, "fluid.free_stream.pressure: must be > 0 Pa, got 0"));
+  EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: -2 }\n"),
+            at("inline.yaml", 4, "fluid.free_stream.mach: must be >= 0, got -2"));
+  EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: 2 }\n"
+                              "  boundaries:\n"
+                              "    - { group: a, type: slip_wall }\n"
+                              "    - { group: a, type: far_field }\n"),
+            at("inline.yaml", 7,
+               "fluid.boundaries[1].group: group 'a' already has a boundary condition (line 6); "
+               "expected one condition per group"));
+}
+
+TEST(ReadCaseErrors, ProbeFieldsAndLocations) {
+  const std::string head = kShellHead + "probes:\n";
+  EXPECT_EQ(text_error(head + "  - { name: a, field: shell.displacment, point: [0, 0, 0] }\n"),
+            at("inline.yaml", 4,
+               "probes[0].field: unknown field 'shell.displacment'; did you mean "
+               "'shell.displacement'? (one of: shell.displacement, shell.velocity, "
+               "shell.acceleration, shell.position)"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: pressure, point: [0, 0, 0] }\n"),
+            at("inline.yaml", 4,
+               "probes[0].field: expected 'MESH.QUANTITY' with MESH one of fluid, space, shell, "
+               "got 'pressure'"));
+  EXPECT_EQ(
+      text_error(head + "  - { name: a, field: fluid.pressure, point: [0, 0, 0] }\n"),
+      at("inline.yaml", 4, "probes[0].field: the case has no fluid mesh; expected 'meshes.fluid'"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity }\n"),
+            at("inline.yaml", 4, "probes[0]: missing required key 'point', 'node' or 'group'"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity, node: 1, group: g }\n"),
+            at("inline.yaml", 4, "probes[0]: give only one of 'point', 'node', 'group'"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity, node: -1 }\n"),
+            at("inline.yaml", 4, "probes[0].node: must be >= 0, got -1"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity, node: 1, reduce: max }\n"),
+            at("inline.yaml", 4, "probes[0].reduce: applies only to probes on a 'group'"));
+  EXPECT_EQ(text_error(head + "  - { name: time, field: shell.velocity, node: 1 }\n"),
+            at("inline.yaml", 4,
+               "probes[0].name: 'time' is reserved for the time column of probes.csv; expected "
+               "another name"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity, component: w, node: 1 }\n"),
+            at("inline.yaml", 4,
+               "probes[0].component: unknown value 'w'; expected one of: x, y, z, magnitude"));
+}
+
+TEST(ReadCaseErrors, OutputEvery) {
+  EXPECT_EQ(text_error(kShellHead + "output: { every: 0 }\n"),
+            at("inline.yaml", 3, "output.every: must be >= 1, got 0"));
+  EXPECT_EQ(text_error(kShellHead + "output: { every: 2.5 }\n"),
+            at("inline.yaml", 3, "output.every: expected an integer, got '2.5'"));
+}
+
+}  // namespace
+}  // namespace shellflow::io
