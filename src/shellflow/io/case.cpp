@@ -45,12 +45,7 @@ constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
 }};
 
 std::string join(const std::vector<std::string>& items, std::string_view sep) {
-  std::string out;
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    if (i > 0) out += sep;
-    out += items[i];
-  }
-  return out;
+  return fmt::format("{}", fmt::join(items, sep));
 }
 
 /// Names used in output file names and CSV headers: [A-Za-z0-9_.-]+.

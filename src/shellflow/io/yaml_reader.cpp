@@ -97,12 +97,7 @@ std::string lowercase(std::string_view s) {
 }
 
 std::string join(const std::vector<std::string>& items, std::string_view sep) {
-  std::string out;
-  for (std::size_t i = 0; i < items.size(); ++i) {
-    if (i > 0) out += sep;
-    out += items[i];
-  }
-  return out;
+  return fmt::format("{}", fmt::join(items, sep));
 }
 
 }  // namespace
