@@ -1,15 +1,16 @@
 // `shellflow run`: run a case.
 //
-// The solvers (shell, fluid, mesh motion, coupling) are being built; until they land a run
-// meshes the case, sets up its initial state (the shell at rest, the fluid at the free
-// stream) and writes it: <mesh>.vtu/.pvd at t = 0, probes.csv with the t = 0 row, and the
-// probe plot. The structure below is the one the time loop will fill.
+// A run meshes the case, sets up its initial state (the shell at rest, the fluid at the free
+// stream) and writes it (<mesh>_000000.vtu + <mesh>.pvd). A case with a `motion` section then
+// moves the fluid mesh with its prescribed boundary motion (motion_run.h). The shell, fluid
+// and coupled solvers are being built; until they land other cases stop after t = 0.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <cmath>
 
 #include "commands.h"
+#include "motion_run.h"
 #include "output_dir.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
@@ -93,10 +94,15 @@ int run_command(const CommonOptions& options) {
     io::write_mesh_vtu(outdir / vtu, *m, std::move(fields), time);
     io::PvdWriter(outdir, m->name).add(time, vtu);
   }
-  probes.record(time, state.views);
-  spdlog::warn("time integration is not available yet in this version: wrote the initial state "
-               "(t = 0) only");
-  spdlog::info("wrote {}: <mesh>_000000.vtu, <mesh>.pvd, probes.csv", outdir.string());
+  if (c.motion) {
+    // Prescribed boundary motion, no flow: the mesh-motion tests of the paper.
+    run_mesh_motion(c, meshes, probes, state.views, outdir, options.plot);
+  } else {
+    probes.record(time, state.views);
+    spdlog::warn("the shell and fluid solvers are not available yet in this version: wrote the "
+                 "initial state (t = 0) only");
+  }
+  spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
   if (options.plot) {
     make_plot("plot_probes.py",
               fmt::format("\"{}\" -o \"{}\"", (outdir / "probes.csv").string(),

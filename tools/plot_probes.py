@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Plot probe histories from a shellflow probes.csv (header: time,<probe names...>).
 
-usage: plot_probes.py OUTDIR/probes.csv [-o probes.png] [--probes NAME ...]
-One panel per probe, against time.
+usage: plot_probes.py OUTDIR/probes.csv [-o probes.png] [--probes NAME ...] [--x COLUMN]
+One panel per probe, against time (or against another column with --x, e.g. an amplitude).
 """
 import argparse
 import csv
@@ -20,6 +20,7 @@ def main():
     parser.add_argument("csv")
     parser.add_argument("-o", "--output")
     parser.add_argument("--probes", nargs="*", help="plot only these columns")
+    parser.add_argument("--x", default="time", help="abscissa column (default: time)")
     args = parser.parse_args()
     output = args.output or os.path.splitext(args.csv)[0] + ".png"
 
@@ -30,8 +31,11 @@ def main():
               file=sys.stderr)
         return 1
     header, data = rows[0], rows[1:]
-    names = args.probes or header[1:]
-    time = [float(r[0]) for r in data]
+    if args.x not in header:
+        print(f"plot_probes: no column '{args.x}' in {args.csv}", file=sys.stderr)
+        return 1
+    names = args.probes or [h for h in header if h not in ("time", args.x)]
+    time = [float(r[header.index(args.x)]) for r in data]
     n = max(1, len(names))
     fig, axes = plt.subplots(n, 1, figsize=(8, 2.2 * n + 0.6), sharex=True, squeeze=False)
     for ax, name in zip(axes[:, 0], names):
@@ -44,7 +48,7 @@ def main():
         ax.grid(True, alpha=0.3)
     if not names:
         axes[0, 0].text(0.5, 0.5, "no probes declared", ha="center", transform=axes[0, 0].transAxes)
-    axes[-1, 0].set_xlabel("time [s]")
+    axes[-1, 0].set_xlabel("time [s]" if args.x == "time" else args.x)
     fig.tight_layout()
     fig.savefig(output, dpi=120)
     print(f"plot_probes: wrote {output}")

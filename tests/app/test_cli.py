@@ -147,5 +147,75 @@ class MeshAndRunCommands(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(self.out, "probes.png")) > 1000)
 
 
+class MotionRuns(unittest.TestCase):
+    """Prescribed panel motion moving the panel fluid mesh (cases/motion)."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def read_quality(self, out):
+        with open(os.path.join(out, "motion_quality.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        return rows
+
+    def test_single_mode_to_twelve_centimetres_stays_valid(self):
+        out = os.path.join(self.tmp.name, "up")
+        case = os.path.join(ROOT, "cases", "motion", "panel_single_mode.yaml")
+        r = shellflow("run", case, "-o", out, "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        rows = self.read_quality(out)
+        self.assertEqual(len(rows), 21)
+        self.assertAlmostEqual(float(rows[-1]["A1"]), 0.12)
+        self.assertTrue(all(float(row["fluid_inverted"]) == 0 for row in rows))
+        self.assertTrue(all(float(row["fluid_min_quality"]) > 0 for row in rows))
+        # The quality falls monotonically with the amplitude.
+        q = [float(row["fluid_min_quality_ratio"]) for row in rows]
+        self.assertTrue(all(b <= a + 1e-12 for a, b in zip(q, q[1:])))
+        # The mesh written at the end is the deformed one: the panel nodes moved by
+        # 0.12 sin(pi s / L), the largest displacement of the mesh.
+        import math
+
+        import numpy
+
+        import meshio
+
+        m = meshio.read(os.path.join(out, "fluid_000020.vtu"))
+        u, x = m.point_data["displacement"], m.points - m.point_data["displacement"]
+        on_panel = (abs(x[:, 1]) < 1e-12) & (x[:, 0] >= 0.25) & (x[:, 0] <= 0.75)
+        expected = 0.12 * abs(numpy.sin(math.pi * (x[on_panel, 0] - 0.25) / 0.5))
+        self.assertLess(float(abs(u[on_panel, 1] - expected).max()), 1e-14)
+        self.assertLessEqual(float(abs(u).max()), 0.12 + 1e-15)
+        with open(os.path.join(out, "probes.csv"), newline="") as f:
+            probes = list(csv.reader(f))
+        self.assertEqual(probes[0], ["time", "panel_mid_y", "w_mesh_max"])
+        self.assertEqual(len(probes), 22)
+
+    def test_an_inverting_motion_stops_after_writing_the_last_valid_state(self):
+        out = os.path.join(self.tmp.name, "too_far")
+        text = open(os.path.join(ROOT, "cases", "motion", "panel_single_mode.yaml")).read()
+        folder = os.path.join(ROOT, "cases", "panel_flutter")
+        text = text.replace("../panel_flutter", folder).replace("value: 0.12", "value: 0.3")
+        case = os.path.join(self.tmp.name, "too_far.yaml")
+        with open(case, "w") as f:
+            f.write(text)
+        r = shellflow("run", case, "-o", out, "--no-plot")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("inverts", r.stderr)
+        self.assertIn("t = 0.45 s", r.stderr)
+        self.assertIn("last valid state (t = 0.4 s)", r.stderr)
+        import xml.etree.ElementTree as ET
+
+        datasets = ET.parse(os.path.join(out, "fluid.pvd")).getroot().iter("DataSet")
+        last = list(datasets)[-1]
+        self.assertAlmostEqual(float(last.get("timestep")), 0.4)
+        import meshio
+
+        m = meshio.read(os.path.join(out, last.get("file")))
+        self.assertTrue((m.cell_data["quality"][0] > 0).all())
+
+
 if __name__ == "__main__":
     unittest.main()

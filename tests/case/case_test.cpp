@@ -406,3 +406,90 @@ TEST(ReadCaseErrors, OutputEvery) {
 
 }  // namespace
 }  // namespace shellflow::io
+
+namespace shellflow::io {
+namespace {
+
+const std::string kMotionHead =
+    "name: t\n"
+    "meshes: { fluid: { geo: fluid_slab.geo }, space: { geo: space_mesh.geo } }\n";
+
+TEST(ReadCase, MotionAndTimeSectionsParseWithDefaults) {
+  const Case c = read_case_string(
+      kMotionHead +
+          "motion:\n"
+          "  interface_groups: [panel]\n"
+          "  fixed_groups: [inflow, wall]\n"
+          "  sliding_groups: [symmetry]\n"
+          "  prescribed:\n"
+          "    type: panel_modes\n"
+          "    leading_edge: [0.25, 0, 0]\n"
+          "    length: 0.5\n"
+          "    normal: [0, 2, 0]\n"
+          "    modes:\n"
+          "      - { amplitude: { type: ramp, value: 0.1, duration: 2 } }\n"
+          "      - { wave_number: 2, amplitude: { type: tabulated, times: [0, 1], values: [0, "
+          "0.04] } }\n"
+          "time: { end: 1, step: 0.01 }\n",
+      data("inline.yaml"));
+  ASSERT_TRUE(c.motion && c.time);
+  EXPECT_EQ(c.motion->method, MotionMethod::space_mesh);
+  EXPECT_EQ(c.motion->weighting, MotionWeighting::plain);
+  EXPECT_EQ(c.motion->interface_exponent, 4.0);
+  EXPECT_EQ(c.motion->fixed_groups, (std::vector<std::string>{"inflow", "wall"}));
+  ASSERT_TRUE(c.motion->prescribed);
+  const auto& p = *c.motion->prescribed;
+  EXPECT_EQ(p.normal, Vec3::UnitY());  // normalised
+  EXPECT_EQ(p.direction, Vec3::UnitX());
+  ASSERT_EQ(p.modes.size(), 2u);
+  EXPECT_EQ(p.modes[0].wave_number, 1);
+  EXPECT_DOUBLE_EQ(p.modes[0].amplitude.value(1.0), 0.05);
+  EXPECT_DOUBLE_EQ(p.modes[0].amplitude.derivative(1.0), 0.05);
+  EXPECT_DOUBLE_EQ(p.modes[1].amplitude.value(0.5), 0.02);
+  EXPECT_EQ(c.time->step, 0.01);
+  // Every group is referenced on both the fluid and the space mesh, at its own line.
+  int space_refs = 0;
+  for (const auto& ref : c.group_references) space_refs += ref.mesh == "space";
+  EXPECT_EQ(space_refs, 4);
+}
+
+TEST(ReadCaseErrors, MotionSection) {
+  EXPECT_EQ(text_error(kMotionHead + "motion: { interface_groups: [] }\n"),
+            at("inline.yaml", 3,
+               "motion.interface_groups: expected a list of the moving boundary's physical groups"));
+  EXPECT_EQ(text_error(kMotionHead + "motion: { method: laplac, interface_groups: [panel] }\n"),
+            at("inline.yaml", 3,
+               "motion.method: unknown value 'laplac'; did you mean 'laplace'? (one of: "
+               "space_mesh, direct_idw, laplace)"));
+  EXPECT_EQ(text_error("name: t\nmeshes: { fluid: { geo: fluid_slab.geo } }\n"
+                       "motion: { interface_groups: [panel] }\n"),
+            at("inline.yaml", 3,
+               "motion: needs a space mesh; expected 'meshes.space' with 'geo' or 'msh'"));
+  EXPECT_EQ(
+      text_error(kMotionHead +
+                 "motion:\n  interface_groups: [panel]\n  prescribed:\n    type: panel_modes\n"
+                 "    leading_edge: [0, 0, 0]\n    length: 0.5\n    modes:\n"
+                 "      - { amplitude: { type: ramp, value: 1, duration: -1 } }\n"),
+      at("inline.yaml", 10, "motion.prescribed.modes[0].amplitude.duration: must be > 0 s, got -1"));
+  EXPECT_EQ(text_error(kMotionHead + "time: { end: 1, step: 2 }\n"),
+            at("inline.yaml", 3, "time.step: must not exceed time.end = 1 s"));
+}
+
+TEST(CheckPhysicalGroups, MotionGroupsAreCheckedOnTheSpaceMeshToo) {
+  const Case c = read_case_string(kMotionHead + "motion:\n  interface_groups: [panel]\n",
+                                  data("inline.yaml"));
+  try {
+    check_physical_groups(c, [](std::string_view mesh) {
+      return mesh == "fluid" ? std::vector<std::string>{"panel"} : std::vector<std::string>{"wall"};
+    });
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("inline.yaml:4: motion.interface_groups[0]: physical "
+                                         "group 'panel' not found in mesh 'space'"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace shellflow::io

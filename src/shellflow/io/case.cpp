@@ -26,6 +26,12 @@ constexpr std::array<std::string_view, 5> kComponentNames = {"x", "y", "z", "mag
 constexpr std::array<std::string_view, 4> kVectorComponentNames = {"x", "y", "z", "magnitude"};
 constexpr std::array<std::string_view, 3> kLocationNames = {"point", "node", "group"};
 constexpr std::array<std::string_view, 3> kReduceNames = {"mean", "min", "max"};
+constexpr std::array<std::string_view, 3> kMotionMethodNames = {"space_mesh", "direct_idw",
+                                                                "laplace"};
+constexpr std::array<std::string_view, 2> kWeightingNames = {"plain", "area"};
+enum class TimeFunctionType { constant, ramp, sine, tabulated };
+constexpr std::array<std::string_view, 4> kTimeFunctionNames = {"constant", "ramp", "sine",
+                                                                "tabulated"};
 
 constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
     {"shell", "displacement", true},
@@ -294,6 +300,103 @@ std::vector<Probe> read_probes(const YamlNode& root, const MeshesSection& meshes
   return probes;
 }
 
+/// A time function: {type: constant|ramp|sine|tabulated, ...} (docs/case-format.md).
+TimeFunction read_time_function(const YamlNode& node) {
+  node.expect_map();
+  TimeFunction f = TimeFunction::constant(0.0);
+  switch (node.enumeration<TimeFunctionType>("type", kTimeFunctionNames)) {
+    case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
+    case TimeFunctionType::ramp:
+      f = TimeFunction::ramp(node.required<double>("value"),
+                             node.required<double>("duration", Range::positive(), "s"));
+      break;
+    case TimeFunctionType::sine:
+      f = TimeFunction::sine(node.required<double>("value"),
+                             node.required<double>("frequency", Range::positive(), "Hz"),
+                             node.optional<double>("phase", 0.0, Range::any(), "rad"));
+      break;
+    case TimeFunctionType::tabulated: {
+      std::vector<double> times, values;
+      for (const YamlNode& t : node.list("times")) times.push_back(t.as<double>());
+      for (const YamlNode& v : node.list("values")) values.push_back(v.as<double>());
+      if (times.empty() || times.size() != values.size()) {
+        node.fail("values", fmt::format("expected as many values as times (at least one), got {} "
+                                        "times and {} values", times.size(), values.size()));
+      }
+      for (std::size_t i = 1; i < times.size(); ++i) {
+        if (!(times[i] > times[i - 1])) node.fail("times", "must be strictly increasing");
+      }
+      f = TimeFunction::tabulated(std::move(times), std::move(values));
+      break;
+    }
+  }
+  node.finish();
+  return f;
+}
+
+std::vector<std::string> read_group_list(const YamlNode& node, std::string_view key,
+                                         const std::vector<std::string_view>& meshes,
+                                         std::vector<GroupReference>& refs) {
+  std::vector<std::string> groups;
+  for (const YamlNode& item : node.optional_list(key)) {
+    std::string group = item.as<std::string>();
+    if (group.empty()) item.fail("expected a physical group name, got an empty string");
+    for (auto mesh : meshes) refs.push_back({group, std::string(mesh), item.location()});
+    groups.push_back(std::move(group));
+  }
+  return groups;
+}
+
+MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes,
+                          std::vector<GroupReference>& refs) {
+  MotionSection m;
+  m.where = node.location();
+  m.method = node.enumeration<MotionMethod>("method", kMotionMethodNames, MotionMethod::space_mesh);
+  if (m.method == MotionMethod::space_mesh) require_mesh(node, meshes, "space");
+  std::vector<std::string_view> group_meshes{"fluid"};
+  if (m.method == MotionMethod::space_mesh) group_meshes.push_back("space");
+  m.interface_groups = read_group_list(node, "interface_groups", group_meshes, refs);
+  if (m.interface_groups.empty()) {
+    node.fail("interface_groups", "expected a list of the moving boundary's physical groups");
+  }
+  m.fixed_groups = read_group_list(node, "fixed_groups", group_meshes, refs);
+  m.sliding_groups = read_group_list(node, "sliding_groups", group_meshes, refs);
+  m.interface_exponent = node.optional<double>("interface_exponent", 4.0, Range::positive());
+  m.fixed_exponent = node.optional<double>("fixed_exponent", 4.0, Range::positive());
+  m.weighting = node.enumeration<MotionWeighting>("weighting", kWeightingNames, MotionWeighting::plain);
+  if (auto p = node.optional_child("prescribed")) {
+    PanelModesSpec spec;
+    spec.where = p->location();
+    const std::string type = p->choice("type", {"panel_modes"});
+    (void)type;
+    spec.leading_edge = p->vec3("leading_edge");
+    spec.direction = unit_vector(*p, "direction", p->vec3("direction", Vec3::UnitX()));
+    spec.length = p->required<double>("length", Range::positive(), "m");
+    spec.normal = unit_vector(*p, "normal", p->vec3("normal", Vec3::UnitY()));
+    for (const YamlNode& item : p->list("modes")) {
+      item.expect_map();
+      PanelModesSpec::Mode mode;
+      mode.wave_number = item.optional<int>("wave_number", 1, Range::at_least(1));
+      mode.amplitude = read_time_function(item.child("amplitude"));
+      item.finish();
+      spec.modes.push_back(std::move(mode));
+    }
+    p->finish();
+    m.prescribed = std::move(spec);
+  }
+  node.finish();
+  return m;
+}
+
+TimeSection read_time(const YamlNode& node) {
+  TimeSection t;
+  t.end = node.required<double>("end", Range::positive(), "s");
+  t.step = node.required<double>("step", Range::positive(), "s");
+  if (t.step > t.end) node.fail("step", fmt::format("must not exceed time.end = {} s", t.end));
+  node.finish();
+  return t;
+}
+
 OutputSection read_output(const YamlNode& root, const std::string& case_name) {
   OutputSection out;
   out.directory = fs::path("out") / case_name;
@@ -322,6 +425,11 @@ Case read_case(const YamlNode& root) {
     require_mesh(*node, c.meshes, "fluid");
     c.fluid = read_fluid(*node, c.group_references);
   }
+  if (auto node = root.optional_child("motion")) {
+    require_mesh(*node, c.meshes, "fluid");
+    c.motion = read_motion(*node, c.meshes, c.group_references);
+  }
+  if (auto node = root.optional_child("time")) c.time = read_time(*node);
   c.probes = read_probes(root, c.meshes, c.group_references);
   c.output = read_output(root, c.name);
   root.finish();
@@ -383,6 +491,10 @@ std::string_view to_string(ProbeComponent c) {
   return kComponentNames[static_cast<std::size_t>(c)];
 }
 std::string_view to_string(ProbeLocation l) { return kLocationNames[static_cast<std::size_t>(l)]; }
+std::string_view to_string(MotionMethod m) {
+  return kMotionMethodNames[static_cast<std::size_t>(m)];
+}
+std::string_view to_string(MotionWeighting w) { return kWeightingNames[static_cast<std::size_t>(w)]; }
 std::string_view to_string(ProbeReduce r) { return kReduceNames[static_cast<std::size_t>(r)]; }
 
 }  // namespace shellflow::io

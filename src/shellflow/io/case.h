@@ -20,6 +20,7 @@
 #include <string_view>
 #include <vector>
 
+#include "shellflow/core/time_function.h"
 #include "shellflow/core/types.h"
 #include "shellflow/io/yaml_reader.h"
 
@@ -110,6 +111,51 @@ struct FluidSection {
   std::vector<FluidBoundary> boundaries;
 };
 
+// ---- mesh motion ------------------------------------------------------------------------------
+
+/// How the fluid mesh follows the moving boundary.
+enum class MotionMethod {
+  space_mesh,  ///< the coarse cubic space mesh (the paper's method)
+  direct_idw,  ///< inverse-distance weighting on every fluid node (baseline)
+  laplace,     ///< Laplacian smoothing on the fluid mesh (baseline)
+};
+enum class MotionWeighting { plain, area };
+
+/// A prescribed panel deflection w(s, t) = sum_m A_m(t) sin(m pi s / L) along `normal`, s the
+/// distance from `leading_edge` along `direction` (0 <= s <= length).
+struct PanelModesSpec {
+  Vec3 leading_edge = Vec3::Zero();  ///< [m]
+  Vec3 direction = Vec3::UnitX();    ///< unit vector along the panel
+  double length = 0.0;               ///< [m], > 0
+  Vec3 normal = Vec3::UnitY();       ///< unit vector of the deflection
+  struct Mode {
+    int wave_number = 1;             ///< m >= 1
+    TimeFunction amplitude;          ///< A_m(t) [m]
+  };
+  std::vector<Mode> modes;
+  SourceLocation where;
+};
+
+struct MotionSection {
+  MotionMethod method = MotionMethod::space_mesh;
+  std::vector<std::string> interface_groups;  ///< moving boundary (fluid and space mesh)
+  std::vector<std::string> fixed_groups;
+  std::vector<std::string> sliding_groups;    ///< symmetry / slip planes
+  double interface_exponent = 4.0;            ///< e1 of the IDW weights
+  double fixed_exponent = 4.0;                ///< e2
+  MotionWeighting weighting = MotionWeighting::plain;
+  /// The boundary motion when no shell solver drives it.
+  std::optional<PanelModesSpec> prescribed;
+  SourceLocation where;
+};
+
+// ---- time -----------------------------------------------------------------------------------
+
+struct TimeSection {
+  double end = 0.0;   ///< [s], > 0
+  double step = 0.0;  ///< [s], > 0
+};
+
 // ---- probes -----------------------------------------------------------------------------------
 
 /// A quantity a probe can record: `<mesh>.<quantity>`, scalar or vector.
@@ -164,6 +210,8 @@ struct Case {
   MeshesSection meshes;
   std::optional<ShellSection> shell;
   std::optional<FluidSection> fluid;
+  std::optional<MotionSection> motion;
+  std::optional<TimeSection> time;
   std::vector<Probe> probes;
   OutputSection output;
   /// Every physical group the case names, in file order.
@@ -193,5 +241,7 @@ std::string_view to_string(FluidBoundaryType t);
 std::string_view to_string(ProbeComponent c);
 std::string_view to_string(ProbeLocation l);
 std::string_view to_string(ProbeReduce r);
+std::string_view to_string(MotionMethod m);
+std::string_view to_string(MotionWeighting w);
 
 }  // namespace shellflow::io

@@ -1,0 +1,199 @@
+#include "motion_run.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+#include "commands.h"
+#include "shellflow/core/error.h"
+#include "shellflow/core/progress.h"
+#include "shellflow/io/mesh_output.h"
+#include "shellflow/io/probe_writer.h"
+#include "shellflow/io/pvd_writer.h"
+#include "shellflow/mesh/quality.h"
+#include "shellflow/motion/mesh_mover.h"
+
+namespace shellflow::app {
+namespace {
+
+std::unique_ptr<motion::PanelModesMotion> prescribed_motion(const io::MotionSection& m) {
+  if (!m.prescribed) {
+    throw_at(m.where, "a mesh-motion run needs 'prescribed' (the boundary motion) until a shell "
+                      "solver drives it");
+  }
+  const auto& p = *m.prescribed;
+  std::vector<motion::PanelModesMotion::Mode> modes;
+  for (const auto& mode : p.modes) modes.push_back({mode.wave_number, mode.amplitude});
+  return std::make_unique<motion::PanelModesMotion>(p.leading_edge, p.direction, p.length,
+                                                    p.normal, std::move(modes));
+}
+
+std::unique_ptr<motion::FluidMeshMover> make_mover(const io::MotionSection& m,
+                                                   const io::CaseMeshes& meshes,
+                                                   motion::BoundaryMotion& boundary) {
+  const auto weighting = m.weighting == io::MotionWeighting::area ? motion::IdwWeighting::area
+                                                                  : motion::IdwWeighting::plain;
+  const mesh::Mesh& fluid = *meshes.fluid;
+  switch (m.method) {
+    case io::MotionMethod::space_mesh: {
+      motion::SpaceMeshOptions options;
+      options.interface_groups = m.interface_groups;
+      options.fixed_groups = m.fixed_groups;
+      options.sliding_groups = m.sliding_groups;
+      options.interface_exponent = m.interface_exponent;
+      options.fixed_exponent = m.fixed_exponent;
+      options.weighting = weighting;
+      // IDW samples: the shell's nodes when the case has a shell mesh (the paper's sums),
+      // else the fluid mesh's interface nodes.
+      std::vector<Vec3> samples;
+      std::vector<double> areas;
+      if (meshes.shell) {
+        samples = meshes.shell->nodes;
+        areas = motion::lumped_node_areas(meshes.shell->nodes, meshes.shell->cells);
+      }
+      auto mover = std::make_unique<motion::SpaceMeshMover>(fluid, *meshes.space, options, boundary,
+                                                            samples, areas);
+      const auto& r = mover->location_report();
+      spdlog::info("space mesh: located {} fluid nodes (max residual {:.2e} m, {} Newton "
+                   "iterations at most), {} projected from outside (max gap {:.2e} m)",
+                   r.located, r.max_residual, r.max_newton_iterations, r.projected, r.max_gap);
+      return mover;
+    }
+    case io::MotionMethod::direct_idw:
+      return std::make_unique<motion::DirectIdwMover>(
+          fluid, motion::BoundaryGroups{m.interface_groups, m.fixed_groups, m.sliding_groups},
+          boundary, m.interface_exponent, m.fixed_exponent, weighting);
+    case io::MotionMethod::laplace: break;
+  }
+  throw_at(m.where, fmt::format("motion method '{}' is not available in this version",
+                                io::to_string(m.method)));
+}
+
+std::vector<double> flatten(std::span<const Vec3> v) {
+  std::vector<double> out;
+  out.reserve(3 * v.size());
+  for (const Vec3& x : v) out.insert(out.end(), x.data(), x.data() + 3);
+  return out;
+}
+
+}  // namespace
+
+void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
+                     std::span<const io::FieldView> initial_fields,
+                     const std::filesystem::path& outdir, bool plot) {
+  const io::MotionSection& m = *c.motion;
+  if (!c.time) throw_at(m.where, "a mesh-motion run needs a 'time' section (end, step)");
+  auto boundary = prescribed_motion(m);
+  auto mover = make_mover(m, meshes, *boundary);
+  const auto* space_mover = dynamic_cast<const motion::SpaceMeshMover*>(mover.get());
+  const mesh::Mesh& fluid = *meshes.fluid;
+
+  std::vector<std::string> columns;
+  for (std::size_t k = 0; k < m.prescribed->modes.size(); ++k) columns.push_back(fmt::format("A{}", k + 1));
+  for (auto name : {"fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
+                    "fluid_inverted", "space_min_relative_jacobian"})
+    columns.emplace_back(name);
+  io::ProbeWriter quality_csv(outdir / "motion_quality.csv", columns);
+  io::PvdWriter fluid_pvd(outdir, "fluid");
+  std::optional<io::PvdWriter> space_pvd;
+  if (space_mover) space_pvd.emplace(outdir, "space");
+
+  const std::vector<double> q0 = mesh::cell_qualities(fluid);
+  std::vector<Vec3> x(fluid.nodes.size()), w(x.size()), displacement(x.size());
+  const double dt = c.time->step;
+  const auto steps = static_cast<long>(std::llround(c.time->end / dt));
+  Progress progress(0.0, c.time->end);
+  double last_written = 0.0;  // run_command wrote the initial state
+  long last_written_step = 0;
+  std::vector<double> u_flat, w_flat, su, sv;
+  // Writes fluid (and space) fields of the current x, w, u_flat, w_flat, su, sv.
+  auto write_state = [&](long step, double t) {
+    const std::string name = fmt::format("fluid_{:06}.vtu", step);
+    io::write_mesh_vtu(outdir / name, fluid,
+                       {{"displacement", 3, u_flat}, {"mesh_velocity", 3, w_flat}}, t, x);
+    fluid_pvd.add(t, name);
+    if (space_mover) {
+      const auto xs = space_mover->space_mesh().current_positions();
+      const std::string sname = fmt::format("space_{:06}.vtu", step);
+      io::write_mesh_vtu(outdir / sname, *meshes.space,
+                         {{"displacement", 3, su}, {"velocity", 3, sv}}, t, xs);
+      space_pvd->add(t, sname);
+    }
+    last_written = t;
+    last_written_step = step;
+  };
+  for (long step = 0; step <= steps; ++step) {
+    const double t = static_cast<double>(step) * dt;
+    mover->update(t, x, w);
+    const auto q = mesh::cell_qualities(fluid, x);
+    Index inverted = 0, worst = 0;
+    double min_q = q.empty() ? 0.0 : q[0], mean_q = 0.0, min_ratio = 1e300;
+    for (std::size_t e = 0; e < q.size(); ++e) {
+      inverted += q[e] <= 0.0;
+      mean_q += q[e] / static_cast<double>(q.size());
+      min_ratio = std::min(min_ratio, q[e] / q0[e]);
+      if (q[e] < min_q) {
+        min_q = q[e];
+        worst = static_cast<Index>(e);
+      }
+    }
+    if (inverted > 0) {
+      const auto v = fluid.cells.element(worst);
+      const Vec3 centre = 0.25 * (x[v[0]] + x[v[1]] + x[v[2]] + x[v[3]]);
+      if (step > 0 && last_written_step != step - 1) {
+        // Write the last valid state (the movers are deterministic: recompute it).
+        const double t_valid = static_cast<double>(step - 1) * dt;
+        mover->update(t_valid, x, w);
+        for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];
+        u_flat = flatten(displacement);
+        w_flat = flatten(w);
+        if (space_mover) {
+          su = flatten(space_mover->space_mesh().displacement());
+          sv = flatten(space_mover->space_mesh().velocity());
+        }
+        write_state(step - 1, t_valid);
+      }
+      throw SolverError(fmt::format(
+          "t = {:.6g} s (step {}): the mesh motion inverts {} fluid element(s), the worst {} at "
+          "({:.4g}, {:.4g}, {:.4g}) m; the last valid state (t = {:.6g} s) is in {}; reduce the "
+          "amplitude or change motion.method / the IDW exponents",
+          t, step, inverted, worst, centre.x(), centre.y(), centre.z(), last_written,
+          outdir.string()));
+    }
+    std::vector<double> row;
+    for (const auto& mode : m.prescribed->modes) row.push_back(mode.amplitude.value(t));
+    const double space_jacobian = space_mover ? space_mover->space_mesh().min_relative_jacobian() : 1.0;
+    row.insert(row.end(), {min_q, mean_q, min_ratio, static_cast<double>(inverted), space_jacobian});
+    quality_csv.append(t, row);
+
+    for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];
+    u_flat = flatten(displacement);
+    w_flat = flatten(w);
+    std::vector<io::FieldView> fields(initial_fields.begin(), initial_fields.end());
+    std::erase_if(fields, [](const io::FieldView& f) { return f.mesh == "fluid" && f.quantity == "mesh_velocity"; });
+    fields.push_back({"fluid", "mesh_velocity", 3, w_flat});
+    if (space_mover) {
+      su = flatten(space_mover->space_mesh().displacement());
+      sv = flatten(space_mover->space_mesh().velocity());
+      std::erase_if(fields, [](const io::FieldView& f) { return f.mesh == "space"; });
+      fields.push_back({"space", "displacement", 3, su});
+      fields.push_back({"space", "velocity", 3, sv});
+    }
+    probes.record(t, fields);
+
+    if (step % c.output.every == 0 || step == steps) write_state(step, t);
+    progress.update(t, step);
+  }
+  progress.finish();
+  std::fflush(stdout);
+  if (plot) make_plot("plot_probes.py", fmt::format("\"{}\" --x A1 -o \"{}\"",
+                                          (outdir / "motion_quality.csv").string(),
+                                          (outdir / "motion_quality.png").string()));
+  spdlog::info("mesh motion: {} steps, fluid mesh valid throughout; quality history in {}", steps,
+               (outdir / "motion_quality.csv").string());
+}
+
+}  // namespace shellflow::app
