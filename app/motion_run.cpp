@@ -94,7 +94,7 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
   std::vector<std::string> columns;
   for (std::size_t k = 0; k < m.prescribed->modes.size(); ++k) columns.push_back(fmt::format("A{}", k + 1));
   for (auto name : {"fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
-                    "fluid_inverted", "space_min_relative_jacobian"})
+                    "fluid_inverted", "space_min_quality", "space_min_relative_jacobian"})
     columns.emplace_back(name);
   io::ProbeWriter quality_csv(outdir / "motion_quality.csv", columns);
   io::PvdWriter fluid_pvd(outdir, "fluid");
@@ -165,8 +165,16 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
     }
     std::vector<double> row;
     for (const auto& mode : m.prescribed->modes) row.push_back(mode.amplitude.value(t));
-    const double space_jacobian = space_mover ? space_mover->space_mesh().min_relative_jacobian() : 1.0;
-    row.insert(row.end(), {min_q, mean_q, min_ratio, static_cast<double>(inverted), space_jacobian});
+    // The space mesh's own health: vertex quality, and the Jacobian of its cubic map, which
+    // turns negative before the fluid mesh inverts (the early warning).
+    double space_quality = 1.0, space_jacobian = 1.0;
+    if (space_mover) {
+      const auto& sm = space_mover->space_mesh();
+      space_quality = mesh::summarize_quality(sm.mesh(), sm.current_positions()).min;
+      space_jacobian = sm.min_relative_jacobian();
+    }
+    row.insert(row.end(), {min_q, mean_q, min_ratio, static_cast<double>(inverted), space_quality,
+                           space_jacobian});
     quality_csv.append(t, row);
 
     for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];
