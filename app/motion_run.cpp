@@ -14,6 +14,7 @@
 #include "shellflow/io/probe_writer.h"
 #include "shellflow/io/pvd_writer.h"
 #include "shellflow/mesh/quality.h"
+#include "shellflow/motion/laplace_mover.h"
 #include "shellflow/motion/mesh_mover.h"
 
 namespace shellflow::app {
@@ -66,10 +67,12 @@ std::unique_ptr<motion::FluidMeshMover> make_mover(const io::MotionSection& m,
       return std::make_unique<motion::DirectIdwMover>(
           fluid, motion::BoundaryGroups{m.interface_groups, m.fixed_groups, m.sliding_groups},
           boundary, m.interface_exponent, m.fixed_exponent, weighting);
-    case io::MotionMethod::laplace: break;
+    case io::MotionMethod::laplace:
+      return std::make_unique<motion::LaplaceMover>(
+          fluid, motion::BoundaryGroups{m.interface_groups, m.fixed_groups, m.sliding_groups},
+          boundary);
   }
-  throw_at(m.where, fmt::format("motion method '{}' is not available in this version",
-                                io::to_string(m.method)));
+  throw Error("unknown motion method");
 }
 
 std::vector<double> flatten(std::span<const Vec3> v) {
@@ -94,8 +97,12 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
   std::vector<std::string> columns;
   for (std::size_t k = 0; k < m.prescribed->modes.size(); ++k) columns.push_back(fmt::format("A{}", k + 1));
   for (auto name : {"fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
-                    "fluid_inverted", "space_min_quality", "space_min_relative_jacobian"})
+                    "fluid_inverted"})
     columns.emplace_back(name);
+  if (space_mover) {
+    columns.emplace_back("space_min_quality");
+    columns.emplace_back("space_min_relative_jacobian");
+  }
   io::ProbeWriter quality_csv(outdir / "motion_quality.csv", columns);
   io::PvdWriter fluid_pvd(outdir, "fluid");
   std::optional<io::PvdWriter> space_pvd;
@@ -167,14 +174,12 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
     for (const auto& mode : m.prescribed->modes) row.push_back(mode.amplitude.value(t));
     // The space mesh's own health: vertex quality, and the Jacobian of its cubic map, which
     // turns negative before the fluid mesh inverts (the early warning).
-    double space_quality = 1.0, space_jacobian = 1.0;
+    row.insert(row.end(), {min_q, mean_q, min_ratio, static_cast<double>(inverted)});
     if (space_mover) {
       const auto& sm = space_mover->space_mesh();
-      space_quality = mesh::summarize_quality(sm.mesh(), sm.current_positions()).min;
-      space_jacobian = sm.min_relative_jacobian();
+      row.push_back(mesh::summarize_quality(sm.mesh(), sm.current_positions()).min);
+      row.push_back(sm.min_relative_jacobian());
     }
-    row.insert(row.end(), {min_q, mean_q, min_ratio, static_cast<double>(inverted), space_quality,
-                           space_jacobian});
     quality_csv.append(t, row);
 
     for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];

@@ -54,4 +54,12 @@ inline shellflow::motion::PanelModesMotion panel_motion(shellflow::TimeFunction 
                                               {{1, std::move(amplitude)}});
 }
 
+/// Fluid node positions x and mesh velocities w at time t from a mover.
+inline std::pair<std::vector<shellflow::Vec3>, std::vector<shellflow::Vec3>> at(
+    shellflow::motion::FluidMeshMover& mover, double t) {
+  std::vector<shellflow::Vec3> x(fluid().nodes.size()), w(x.size());
+  mover.update(t, x, w);
+  return {x, w};
+}
+
 }  // namespace motion_test

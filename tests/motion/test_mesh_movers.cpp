@@ -5,16 +5,8 @@
 
 using namespace shellflow;
 using namespace shellflow::motion;
+using motion_test::at;
 using motion_test::fluid;
-
-namespace {
-/// x and w of the fluid mesh at time t from a mover.
-std::pair<std::vector<Vec3>, std::vector<Vec3>> at(FluidMeshMover& mover, double t) {
-  std::vector<Vec3> x(fluid().nodes.size()), w(x.size());
-  mover.update(t, x, w);
-  return {x, w};
-}
-}  // namespace
 
 TEST(MeshMovers, MeshVelocityIsTheTimeDerivativeOfThePositions) {
   auto motion = motion_test::panel_motion(TimeFunction::sine(0.02, 30.0));

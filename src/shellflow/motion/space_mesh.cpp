@@ -320,7 +320,10 @@ void SpaceMesh::move(std::span<const Vec3> interface_u, std::span<const Vec3> in
     velocity_[static_cast<std::size_t>(fixed_nodes_[l])] = Vec3::Zero();
   }
   const std::size_t ns = sample_u.size(), nf = fixed_nodes_.size();
-  for (std::size_t r = 0; r < idw_nodes_.size(); ++r) {
+  const auto rows = static_cast<std::ptrdiff_t>(idw_nodes_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t row = 0; row < rows; ++row) {
+    const auto r = static_cast<std::size_t>(row);
     const double* a = sample_weights_.data() + r * ns;
     Vec3 u = Vec3::Zero(), v = Vec3::Zero();
     for (std::size_t j = 0; j < ns; ++j) {
@@ -355,19 +358,34 @@ void SpaceMesh::interpolate(std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) co
   // arithmetic, but this way an unmoved mesh returns every fluid node at exactly its
   // initial position (also a node projected from just outside), and a uniform translation
   // moves every node by exactly that translation.
+  //
+  // The space mesh is small (~1 000 nodes): pack (u, v) of each of its nodes into one
+  // 6-double record first, so the per-fluid-node loop gathers 20 contiguous records and
+  // runs 6 independent multiply-add chains.
+  motion_records_.resize(6 * displacement_.size());
+  for (std::size_t k = 0; k < displacement_.size(); ++k) {
+    double* r = motion_records_.data() + 6 * k;
+    for (int i = 0; i < 3; ++i) {
+      r[i] = displacement_[k][i];
+      r[3 + i] = velocity_[k][i];
+    }
+  }
+  const double* records = motion_records_.data();
+  const Index* connectivity = mesh_.cells.connectivity.data();
   const auto n = static_cast<std::ptrdiff_t>(locations_.size());
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
     const NodeLocation& loc = locations_[static_cast<std::size_t>(p)];
-    const auto nodes = mesh_.cells.element(loc.element);
-    Vec3 up = Vec3::Zero(), wp = Vec3::Zero();
+    const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
+    double acc[6] = {0, 0, 0, 0, 0, 0};
     for (int a = 0; a < kNodes; ++a) {
-      const auto k = static_cast<std::size_t>(nodes[static_cast<std::size_t>(a)]);
-      up += loc.shape[static_cast<std::size_t>(a)] * displacement_[k];
-      wp += loc.shape[static_cast<std::size_t>(a)] * velocity_[k];
+      const double* r = records + 6 * static_cast<std::ptrdiff_t>(nodes[a]);
+      const double N = loc.shape[static_cast<std::size_t>(a)];
+      for (int i = 0; i < 6; ++i) acc[i] += N * r[i];
     }
-    fluid_x[static_cast<std::size_t>(p)] = fluid_initial_[static_cast<std::size_t>(p)] + up;
-    fluid_w[static_cast<std::size_t>(p)] = wp;
+    const Vec3& X = fluid_initial_[static_cast<std::size_t>(p)];
+    fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
+    fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
   }
 }
 

@@ -136,6 +136,7 @@ class SpaceMesh {
   std::vector<NodeLocation> locations_;
   std::vector<Vec3> fluid_initial_;  ///< fluid node positions given to locate()
   std::vector<Vec3> displacement_, velocity_;
+  mutable std::vector<double> motion_records_;  ///< (u, v) per node, packed for interpolate()
 };
 
 /// Lumped boundary area of each node of a block of boundary facets (integral of the node's
