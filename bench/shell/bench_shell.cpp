@@ -1,0 +1,146 @@
+// Shell solver timings: one Newton iteration (assembly of F_int and K + factorisation +
+// solve) on the 244-node reference strip and on the Sze 3.1 cantilever (8x1 and 16x1
+// cubic meshes); assembly alone with 1 and 2 threads; LDLT vs LU factorisation.
+#include <filesystem>
+#include <memory>
+
+#include <Eigen/SparseLU>
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include "shellflow/mesh/gmsh_io.h"
+#include "shellflow/shell/newmark_solver.h"
+#include "shellflow/shell/static_solver.h"
+
+namespace shellflow::shell {
+namespace {
+
+std::unique_ptr<ShellModel> make_model(const std::string& case_file) {
+  mesh::MeshingOptions meshing;
+  meshing.order = 3;
+  ShellSection section;
+  const bool strip = case_file.starts_with("strip");
+  section.thickness = strip ? 1.35e-3 : 0.1;
+  section.material = strip ? SvkMaterial{77.28e9, 0.33, 2710.0} : SvkMaterial{1.2e6, 0.0, 0.0};
+  auto model = std::make_unique<ShellModel>(
+      mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "cases/shell" / case_file, meshing, "shell"),
+      section);
+  if (strip) {
+    model->add_support(Support::clamped("leading_edge"));
+    model->add_support(Support::clamped("trailing_edge"));
+    model->add_support(Support::symmetry_plane("sides", 2));
+    model->add_line_load({"sides", Vec3(0.0, 100.0, 0.0)});
+  } else {
+    model->add_support(Support::clamped("clamped"));
+    model->add_line_load({"tip", Vec3(0.0, 0.0, 4.0)});
+  }
+  return model;
+}
+
+const ShellModel& model_for(int which) {
+  static const auto strip = make_model("strip_20x1.geo");
+  static const auto sze8 = make_model("sze31_cantilever_8x1.geo");
+  static const auto sze16 = make_model("sze31_cantilever_16x1.geo");
+  return which == 0 ? *strip : which == 1 ? *sze8 : *sze16;
+}
+const char* name_of(int which) { return which == 0 ? "strip244" : which == 1 ? "sze31_8x1" : "sze31_16x1"; }
+
+/// A deformed state: the first Newton correction at full load (non-trivial stresses).
+Eigen::VectorXd deformed_state(const ShellModel& model) {
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(model.num_dofs()), f;
+  SparseMatrix K = model.make_matrix();
+  model.assemble(u, f, &K);
+  Eigen::VectorXd rhs = model.reference_load() - f;
+  NewtonLinearSolver solver;
+  solver.solve(K, model.constrained(), rhs);
+  return 0.1 * rhs;
+}
+
+void BM_NewtonIteration(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  const ShellModel& model = model_for(static_cast<int>(state.range(0)));
+  state.SetLabel(name_of(static_cast<int>(state.range(0))));
+  const Eigen::VectorXd u = deformed_state(model);
+  SparseMatrix K = model.make_matrix();
+  Eigen::VectorXd f;
+  NewtonLinearSolver solver;
+  for (auto _ : state) {
+    model.assemble(u, f, &K);
+    Eigen::VectorXd rhs = model.reference_load() - f;
+    solver.solve(K, model.constrained(), rhs);
+    benchmark::DoNotOptimize(rhs.data());
+  }
+  state.counters["nodes"] = model.num_nodes();
+  state.counters["dofs"] = model.num_dofs();
+}
+BENCHMARK(BM_NewtonIteration)->ArgsProduct({{0, 1, 2}, {1, 2}})->Unit(benchmark::kMillisecond);
+
+void BM_Assembly(benchmark::State& state) {
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  const ShellModel& model = model_for(static_cast<int>(state.range(0)));
+  state.SetLabel(name_of(static_cast<int>(state.range(0))));
+  const Eigen::VectorXd u = deformed_state(model);
+  SparseMatrix K = model.make_matrix();
+  Eigen::VectorXd f;
+  for (auto _ : state) {
+    model.assemble(u, f, &K);
+    benchmark::DoNotOptimize(K.valuePtr());
+  }
+  state.counters["elements/s"] =
+      benchmark::Counter(static_cast<double>(model.mesh().num_cells()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_Assembly)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond);
+
+/// Factorisation + solve alone: Eigen SimplicialLDLT (used) against SparseLU.
+void BM_Factorisation(benchmark::State& state) {
+  const ShellModel& model = model_for(0);
+  const bool lu = state.range(0) == 1;
+  state.SetLabel(lu ? "SparseLU strip244" : "SimplicialLDLT strip244");
+  const Eigen::VectorXd u = deformed_state(model);
+  SparseMatrix K = model.make_matrix();
+  Eigen::VectorXd f;
+  model.assemble(u, f, &K);
+  Eigen::VectorXd rhs = model.reference_load() - f;
+  NewtonLinearSolver prepare;
+  Eigen::VectorXd tmp = rhs;
+  prepare.solve(K, model.constrained(), tmp);  // applies the supports to K
+  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
+  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> sparse_lu;
+  if (lu) sparse_lu.analyzePattern(K); else ldlt.analyzePattern(K);
+  for (auto _ : state) {
+    Eigen::VectorXd x;
+    if (lu) {
+      sparse_lu.factorize(K);
+      x = sparse_lu.solve(rhs);
+    } else {
+      ldlt.factorize(K);
+      x = ldlt.solve(rhs);
+    }
+    benchmark::DoNotOptimize(x.data());
+  }
+}
+BENCHMARK(BM_Factorisation)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+/// One Newmark step of the reference strip (Newton to the §8 tolerances), free vibration
+/// from a uniform initial transverse velocity, Δt = 1e-4 s (~T1/320).
+void BM_NewmarkStepStrip(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const ShellModel& model = model_for(0);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(model.num_dofs());
+  for (Index n = 0; n < model.num_nodes(); ++n)
+    if (!model.constrained()[static_cast<std::size_t>(7 * n + 1)]) v(7 * n + 1) = 0.1;
+  NewmarkSolver solver(model);
+  solver.set_initial_state(Eigen::VectorXd::Zero(model.num_dofs()), v);
+  int iterations = 0, steps = 0;
+  for (auto _ : state) {
+    iterations += solver.advance(1e-4);
+    ++steps;
+  }
+  state.counters["newton_its_per_step"] = static_cast<double>(iterations) / std::max(1, steps);
+}
+BENCHMARK(BM_NewmarkStepStrip)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace shellflow::shell
+
+BENCHMARK_MAIN();

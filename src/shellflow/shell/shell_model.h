@@ -1,0 +1,172 @@
+#pragma once
+// A shell model: mesh + section + supports + dead loads, and the global operators of the
+// positional shell (internal force, tangent, mass) assembled into Eigen sparse matrices
+// whose pattern is computed once. Unknowns: increments u = y - y0, node-major, 7 per node
+// [dx (3), dG (3), a] (shell.md §0, §2.5).
+#include <array>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <Eigen/Sparse>
+
+#include "shellflow/fem/shape_functions.h"
+#include "shellflow/mesh/mesh.h"
+#include "shellflow/shell/material.h"
+#include "shellflow/shell/shell_element.h"
+
+namespace shellflow::shell {
+
+using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
+
+struct ShellSection {
+  double thickness = 0.0;
+  SvkMaterial material;
+  int plane_degree = 6;      ///< in-plane quadrature degree (shell.md §5: 6, 12 points)
+  int thickness_points = 3;  ///< Gauss points through the thickness (3; 5 for checks)
+};
+
+/// Components of the nodal position and director that a support fixes, in global axes, on
+/// every node of a physical group (shell.md §10). Fixed components keep their initial
+/// value (zero increment).
+struct Support {
+  std::string group;
+  std::array<bool, 3> fix_position{};
+  std::array<bool, 3> fix_director{};
+  bool fix_thickness_parameter = false;
+
+  /// Position fixed at X, director fixed at V ([decision] of §10: all of G).
+  static Support clamped(std::string group);
+  /// Soft simple support: position fixed, director free.
+  static Support simply_supported(std::string group);
+  /// Symmetry plane with unit normal along global axis `normal_axis` (0, 1, 2):
+  /// x·n = X·n and G·n = 0.
+  static Support symmetry_plane(std::string group, int normal_axis);
+  /// Roller: only the position component along `free_axis` is free; the director is fixed
+  /// (clamped-sliding) or free.
+  static Support sliding(std::string group, int free_axis, bool clamp_director);
+};
+
+/// Dead line load per reference length on the edges of a physical group of lines.
+struct LineLoad {
+  std::string group;
+  Vec3 force_per_length = Vec3::Zero();
+};
+
+/// Dead point force on a node.
+struct PointLoad {
+  Index node = 0;
+  Vec3 force = Vec3::Zero();
+};
+
+/// Conservative edge couple per reference length about the unit edge tangent `axis`
+/// (shell.md §11), acting on the directors of a group's nodes. Positive about +axis.
+struct EdgeCouple {
+  std::string group;
+  Vec3 axis = Vec3::UnitY();
+  double moment_per_length = 0.0;
+};
+
+/// Follower pressure on the mid-surface (shell.md §11), positive along the current normal
+/// oriented like the directors V; per current area. `group` names a surface group of the
+/// shell mesh, or is empty for the whole shell. Makes the tangent non-symmetric.
+struct FollowerPressure {
+  std::string group;
+  double pressure = 0.0;
+};
+
+/// Elements of one triangle type with their precomputed geometry and a colouring in which
+/// no two elements of a colour share a node (race-free parallel assembly).
+template <class Tri>
+struct ElementSet {
+  ShellQuadrature<Tri> rule;
+  std::vector<ShellElementGeometry<Tri>> geometry;
+};
+
+class ShellModel {
+ public:
+  /// Builds directors (shell.md §9), element geometry and the matrix pattern. Throws
+  /// InputError for a non-triangle mesh, a non-positive thickness, a kink or inconsistent
+  /// orientation at a node, or J0 <= 0 in an element (each naming the node / element).
+  ShellModel(mesh::Mesh mesh, const ShellSection& section);
+
+  const mesh::Mesh& mesh() const { return mesh_; }
+  const ShellSection& section() const { return section_; }
+  Index num_nodes() const { return mesh_.num_nodes(); }
+  Index num_dofs() const { return dofs_per_node * mesh_.num_nodes(); }
+  /// Initial unit directors V (nodal normals of the mid-surface).
+  const std::vector<Vec3>& directors() const { return directors_; }
+  /// Bounding-box diagonal of the mid-surface (length scale of the convergence test).
+  double reference_length() const { return reference_length_; }
+
+  void add_support(const Support& support);
+  void add_line_load(const LineLoad& load);
+  void add_point_load(const PointLoad& load);
+  void add_edge_couple(const EdgeCouple& couple);
+  void add_follower_pressure(const FollowerPressure& pressure);
+  /// Dead body force per unit mass (gravity), shell.md §6: F = M b with b on the x rows
+  /// (Σ φ_k = 1 makes this ∫ρ φ_j b dV0 on x and ∫ρ φ_j (h/2) ξ3 b dV0 on G).
+  void add_gravity(const Vec3& acceleration);
+
+  /// Per dof: 1 when a support fixes it.
+  const std::vector<char>& constrained() const { return constrained_; }
+  /// Dead external force at load factor 1.
+  const Eigen::VectorXd& reference_load() const { return reference_load_; }
+  /// Adds the edge couples and follower pressures at load factor `load_factor` to `force`
+  /// and, when K is given, subtracts their load stiffness from K (K is the tangent of
+  /// F_int - F_ext).
+  void add_follower_loads(const Eigen::VectorXd& u, double load_factor, Eigen::VectorXd& force,
+                          SparseMatrix* K) const;
+  bool has_follower_loads() const { return !edge_couples_.empty() || !pressures_.empty(); }
+  /// False with follower pressure (its load stiffness is not symmetric): use LU.
+  bool symmetric_tangent() const { return pressures_.empty(); }
+
+  /// A matrix with the model's sparsity pattern (all node pairs of an element, 7x7 blocks).
+  SparseMatrix make_matrix() const;
+  /// Internal force at u and, when K is given (made by make_matrix), the tangent. Returns
+  /// false when det A <= 0 at some point (the state is not admissible).
+  bool assemble(const Eigen::VectorXd& u, Eigen::VectorXd& f_int, SparseMatrix* K) const;
+  double strain_energy(const Eigen::VectorXd& u) const;
+  /// Constant consistent mass (a made by make_matrix).
+  void assemble_mass(SparseMatrix& M) const;
+
+  /// Mean displacement of the nodes of a group at u.
+  Vec3 mean_displacement(const std::string& group, const Eigen::VectorXd& u) const;
+
+ private:
+  template <class Tri>
+  void build(ElementSet<Tri>& set);
+  template <class F>
+  void for_each_element_parallel(F&& f) const;
+  void compute_directors();
+  void compute_pattern();
+  void scatter(Index e, const double* Ke, int nd, SparseMatrix& K) const;
+
+  mesh::Mesh mesh_;
+  ShellSection section_;
+  std::vector<Vec3> directors_;
+  double reference_length_ = 0.0;
+  std::variant<ElementSet<fem::Tri3>, ElementSet<fem::Tri6>, ElementSet<fem::Tri10>> elements_;
+  std::vector<std::vector<Index>> colors_;
+  SparseMatrix pattern_;
+  /// offsets_[(e * n + b) * n * 7 + c * n + a]: index in the value array of row 7*node_a
+  /// of column 7*node_b + c (rows of a node are 7 consecutive entries).
+  std::vector<int> offsets_;
+  std::vector<char> constrained_;
+  Eigen::VectorXd reference_load_;
+  std::vector<EdgeCouple> edge_couples_;
+  /// Per edge couple: nodes and their nodal couple weights m_j / m = ∫ phi_j ds0.
+  std::vector<std::vector<std::pair<Index, double>>> edge_couple_weights_;
+  /// Per follower pressure: its value and the cells it acts on.
+  std::vector<std::pair<double, std::vector<Index>>> pressures_;
+};
+
+/// Nodal values of a 7-per-node vector.
+inline Vec3 node_position_increment(const Eigen::VectorXd& u, Index n) {
+  return u.segment<3>(dofs_per_node * n);
+}
+inline Vec3 node_director_increment(const Eigen::VectorXd& u, Index n) {
+  return u.segment<3>(dofs_per_node * n + 3);
+}
+
+}  // namespace shellflow::shell

@@ -1,0 +1,78 @@
+// Free vibration of the reference panel strip (shell-references.md): L = 0.5 m,
+// h = 1.35 mm, E = 77.28 GPa, nu = 0.33, rho = 2710 kg/m³, clamped–clamped, symmetry planes
+// on the long edges (cylindrical bending): 31.401, 86.557, 169.687 Hz.
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <vector>
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "shellflow/mesh/gmsh_io.h"
+#include "shellflow/shell/modal.h"
+#include "shellflow/shell/newmark_solver.h"
+#include "reference_strip.h"
+
+namespace shellflow::shell {
+namespace {
+
+TEST(ReferenceStripVibration, FirstThreeFrequenciesMatchPlateStripTheory) {
+  const ShellModel model = reference_strip();
+  ASSERT_EQ(model.num_nodes(), 244);
+  const ModalResult modes = natural_frequencies(model, 3, Eigen::VectorXd::Zero(model.num_dofs()));
+  const double reference[3] = {31.401, 86.557, 169.687};
+  for (int k = 0; k < 3; ++k) {
+    const double f = modes.frequencies[static_cast<std::size_t>(k)];
+    std::printf("mode %d: %.4f Hz (reference %.3f, error %+.3f %%)\n", k + 1, f, reference[k],
+                100.0 * (f / reference[k] - 1.0));
+    EXPECT_NEAR(f / reference[k], 1.0, 2e-3) << "mode " << k + 1;
+  }
+  std::printf("subspace iterations: %d\n", modes.iterations);
+}
+
+/// Times where q(t) crosses zero downwards/upwards, by linear interpolation between steps.
+std::vector<double> zero_crossings(const std::vector<double>& t, const std::vector<double>& q) {
+  std::vector<double> crossings;
+  for (std::size_t i = 2; i < q.size(); ++i)  // q(0) = 0 is not a crossing
+    if ((q[i - 1] > 0.0) != (q[i] > 0.0)) crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * q[i - 1] / (q[i - 1] - q[i]));
+  return crossings;
+}
+
+TEST(ReferenceStripVibration, NewmarkPeriodMatchesTheFirstFrequency) {
+  const ShellModel model = reference_strip();
+  const ModalResult modes = natural_frequencies(model, 1, Eigen::VectorXd::Zero(model.num_dofs()));
+  const Eigen::VectorXd& phi = modes.modes[0];
+  const double f1 = modes.frequencies[0];
+  // Small amplitude (linear range): modal velocity such that the peak deflection is ~1e-3 h.
+  double w_max = 0.0;  // transverse (y) component of the mode
+  for (Index n = 0; n < model.num_nodes(); ++n) w_max = std::max(w_max, std::abs(phi(7 * n + 1)));
+  const double scale = 1.35e-6 / w_max;
+  NewmarkSolver solver(model);
+  solver.set_initial_state(Eigen::VectorXd::Zero(model.num_dofs()), scale * 2.0 * std::numbers::pi * f1 * phi);
+  const double dt = 1.0 / (100.0 * f1);
+  const Eigen::VectorXd Mphi = solver.mass() * phi;
+  std::vector<double> t{0.0}, q{0.0};
+  const double E0 = solver.kinetic_energy();
+  double worst_energy = 0.0;
+  for (int s = 0; s < 56; ++s) {  // past the first return at T/2
+    solver.advance(dt);
+    t.push_back(solver.time());
+    q.push_back(Mphi.dot(solver.displacement()));
+    worst_energy = std::max(worst_energy, std::abs((solver.kinetic_energy() + solver.strain_energy()) / E0 - 1.0));
+  }
+  std::printf("linear range: max |E/E0 - 1| = %.2e over %zu steps\n", worst_energy, t.size() - 1);
+  EXPECT_LT(worst_energy, 1e-6);  // trapezoidal Newmark conserves energy in the linear range
+  const auto crossings = zero_crossings(t, q);
+  ASSERT_GE(crossings.size(), 1u);
+  const double period = 2.0 * crossings.front();  // q = A sin(omega t): first return at T/2
+  const double f_newmark = 1.0 / period;
+  // Newmark's period elongation at omega dt = 2 pi / 100 is (omega dt)^2 / 12 = 3.3e-4.
+  std::printf("Newmark (dt = T/100): f1 = %.4f Hz, modal %.4f Hz, reference 31.401 Hz (error %+.3f %%)\n", f_newmark,
+              f1, 100.0 * (f_newmark / 31.401 - 1.0));
+  EXPECT_NEAR(f_newmark / f1, 1.0 - std::pow(2.0 * std::numbers::pi / 100.0, 2) / 12.0, 1e-4);
+  EXPECT_NEAR(f_newmark / 31.401, 1.0, 2e-3);
+}
+
+}  // namespace
+}  // namespace shellflow::shell
