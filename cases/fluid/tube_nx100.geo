@@ -1,0 +1,3 @@
+// Shock tube with 100 columns (see tube.geo).
+Nx = 100;
+Include "tube.geo";

@@ -1,0 +1,3 @@
+// Shock tube with 200 columns (see tube.geo).
+Nx = 200;
+Include "tube.geo";

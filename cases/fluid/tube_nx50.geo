@@ -1,0 +1,3 @@
+// Shock tube with 50 columns (see tube.geo).
+Nx = 50;
+Include "tube.geo";

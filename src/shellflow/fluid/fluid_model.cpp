@@ -1,0 +1,273 @@
+#include "shellflow/fluid/fluid_model.h"
+
+#include <cmath>
+#include <limits>
+
+#include <omp.h>
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+#include "shellflow/fluid/mass.h"
+#include "shellflow/fluid/time_step.h"
+
+namespace shellflow::fluid {
+
+FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options,
+                       std::vector<BoundaryCondition> conditions)
+    : mesh_(std::move(mesh)), options_(options) {
+  if (mesh_.cells.type != mesh::ElementType::tet4)
+    throw InputError(fmt::format("fluid mesh '{}' ({}) has {} cells; the fluid solver needs "
+                                 "4-node tetrahedra (Mesh.ElementOrder = 1)",
+                                 mesh_.name, mesh_.source,
+                                 mesh::element_info(mesh_.cells.type).short_name));
+  const Index nn = mesh_.num_nodes();
+  colours_ = colour_cells(mesh_.cells.connectivity, 4, nn,
+                          default_block_size(mesh_.num_cells(), omp_get_max_threads()));
+  tets_.reserve(mesh_.cells.connectivity.size());
+  for (const Index c : colours_.order) {
+    const auto cell = mesh_.cells.element(c);
+    tets_.insert(tets_.end(), cell.begin(), cell.end());
+  }
+  x_ = mesh_.nodes;
+  w_.assign(std::size_t(nn), Vec3::Zero());
+  compute_geometry(x_, tets_, geometry_);
+  boundaries_ = BoundarySet(mesh_, tets_, options_.gas, std::move(conditions));
+  boundaries_.update_normals(x_);
+  state_.resize(nn);
+  residual_.resize(nn);
+  next_state_.resize(nn);
+}
+
+void FluidModel::set_state(const std::function<Primitive(const Vec3&)>& field) {
+  for (Index a = 0; a < mesh_.num_nodes(); ++a)
+    state_.set(a, to_conservative(options_.gas, field(x_[std::size_t(a)])));
+  boundaries_.apply(options_.gas, time_, x_, w_, state_);
+  check_positivity(state_, time_);
+  viscosity_valid_ = false;
+}
+
+void FluidModel::set_state(const FluidState& state) {
+  if (state.size() != mesh_.num_nodes())
+    throw InputError(fmt::format("fluid state has {} nodes, mesh '{}' has {}", state.size(),
+                                 mesh_.name, mesh_.num_nodes()));
+  state_ = state;
+  viscosity_valid_ = false;
+}
+
+void FluidModel::set_mesh_velocity(std::span<const Vec3> w) {
+  if (w.size() != x_.size())
+    throw InputError(fmt::format("fluid mesh velocity has {} entries for {} nodes", w.size(),
+                                 x_.size()));
+  w_.assign(w.begin(), w.end());
+}
+
+void FluidModel::check_cfl(double cfl) const {
+  // Measured on tetrahedra (tests/fluid/test_stability.cpp): stable to 0.9 at rest, unstable
+  // at 1.0 with lumped mass; the consistent mass lowers the limit to about 0.6x (spec §5).
+  const double limit = options_.consistent_mass_iterations > 0 ? 0.6 : 1.0;
+  if (!(cfl > 0.0) || cfl > limit)
+    throw InputError(fmt::format(
+        "fluid CFL number {} is outside (0, {}]: the explicit step is unstable above it "
+        "({} mass); use 0.5 (lumped) or 0.3 (consistent)",
+        cfl, limit, options_.consistent_mass_iterations > 0 ? "consistent" : "lumped"));
+}
+
+void FluidModel::update_viscosity() {
+  if (viscosity_valid_) return;
+  compute_artificial_viscosity(options_.gas, options_.q_dif, options_.av_smoothing, loop(),
+                               geometry_, state_, av_work_, viscosity_);
+  viscosity_valid_ = true;
+}
+
+double FluidModel::stable_dt(double cfl) {
+  check_cfl(cfl);
+  update_viscosity();
+  return cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_, viscosity_,
+                                     time_step_work_);
+}
+
+void FluidModel::step(double dt) { step(dt, x_, std::span<const Vec3>{}); }
+
+void FluidModel::step(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w) {
+  advance(dt, x_next, w, false);
+}
+
+void FluidModel::step_local(double cfl) {
+  check_cfl(cfl);
+  update_viscosity();
+  const double dt_min = cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_,
+                                                    viscosity_, time_step_work_, &element_dt_);
+  for (auto& dt : element_dt_) dt *= cfl;
+  nodal_dt_.assign(std::size_t(mesh_.num_nodes()), std::numeric_limits<double>::infinity());
+  for (std::size_t e = 0; e < element_dt_.size(); ++e)
+    for (int a = 0; a < 4; ++a) {
+      double& d = nodal_dt_[std::size_t(tets_[4 * e + std::size_t(a)])];
+      d = std::min(d, element_dt_[e]);
+    }
+  w_.assign(w_.size(), Vec3::Zero());  // steady runs: fixed mesh
+  advance(dt_min, x_, {}, true);
+}
+
+void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w,
+                         bool local) {
+  const Index nn = mesh_.num_nodes();
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    throw SolverError(fmt::format("fluid time step {} at t = {} is not positive", dt, time_));
+  if (x_next.size() != std::size_t(nn) || (!w.empty() && w.size() != std::size_t(nn)))
+    throw InputError(fmt::format("fluid mesh motion: {} positions and {} velocities for {} "
+                                 "nodes", x_next.size(), w.size(), nn));
+  const bool moves = x_next.data() != x_.data();
+  std::vector<Vec3> w_step(static_cast<std::size_t>(nn));
+  for (std::size_t a = 0; a < std::size_t(nn); ++a)
+    w_step[a] = !w.empty() ? w[a] : Vec3((x_next[a] - x_[a]) / dt);
+  update_viscosity();
+
+  bool mesh_moves = false;
+  for (const auto& v : w_step) mesh_moves = mesh_moves || v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
+  ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction,
+                       mesh_moves, {}, {}};
+  if (local) {
+    p.element_dt = element_dt_;
+    p.nodal_dt = nodal_dt_;
+  }
+  assemble_residual(p, loop(), geometry_, state_, w_step, viscosity_, residual_);
+  add_natural_boundary_term(p, loop(), x_, geometry_, state_, w_step,
+                            boundaries_.natural_faces(), residual_);
+  const auto& m = geometry_.lumped_mass;
+  if (options_.consistent_mass_iterations > 0) {
+    increment_.resize(nn);
+    mass_work_.resize(nn);
+    // Inflow (Dirichlet) increments re-imposed after every sweep (spec §5).
+    const double t_end_of_step = time_ + dt;
+    solve_consistent_mass(loop(), geometry_, residual_, options_.consistent_mass_iterations,
+                          increment_, mass_work_, [&](FluidState& dx) {
+                            boundaries_.impose_inflow_increments(options_.gas, t_end_of_step, x_next,
+                                                                 state_, dx);
+                          });
+    for (int v = 0; v < num_variables; ++v) {
+      const auto& u = state_.var[std::size_t(v)];
+      const auto& d = increment_.var[std::size_t(v)];
+      auto& out = next_state_.var[std::size_t(v)];
+#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+      for (Index a = 0; a < nn; ++a) out[std::size_t(a)] = u[std::size_t(a)] + d[std::size_t(a)];
+    }
+  } else {
+    for (int v = 0; v < num_variables; ++v) {
+      const auto& u = state_.var[std::size_t(v)];
+      const auto& r = residual_.var[std::size_t(v)];
+      auto& out = next_state_.var[std::size_t(v)];
+#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+      for (Index a = 0; a < nn; ++a) out[std::size_t(a)] = u[std::size_t(a)] + r[std::size_t(a)] / m[std::size_t(a)];
+    }
+  }
+
+  const double t_next = time_ + dt;
+  if (moves) {
+    compute_geometry(x_next, tets_, next_geometry_);  // throws before anything changes
+    boundaries_.update_normals(x_next);
+  }
+  boundaries_.apply(options_.gas, t_next, x_next, w_step, next_state_);
+  try {
+    check_positivity(next_state_, t_next);
+  } catch (...) {
+    if (moves) boundaries_.update_normals(x_);
+    throw;
+  }
+
+  // Steady-state residual: RMS of d(rho)/dt over the nodes.
+  double rate2 = 0.0;
+  for (Index a = 0; a < nn; ++a) {
+    const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
+                     (local ? nodal_dt_[std::size_t(a)] : dt);
+    rate2 += d * d;
+  }
+  density_rate_ = std::sqrt(rate2 / nn);
+  std::swap(state_, next_state_);
+  if (moves) {
+    std::swap(geometry_, next_geometry_);
+    x_.assign(x_next.begin(), x_next.end());
+  }
+  w_ = std::move(w_step);
+  time_ = t_next;
+  ++steps_;
+  viscosity_valid_ = false;
+}
+
+void FluidModel::check_positivity(const FluidState& u, double t) const {
+  const Index nn = u.size();
+  Index bad = -1;
+#pragma omp parallel for schedule(static) reduction(max : bad) if (nn > parallel_threshold)
+  for (Index a = nn - 1; a >= 0; --a) {
+    const auto i = std::size_t(a);
+    const double rho = u.var[0][i];
+    const double p = options_.gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
+    if (!(rho > 0.0) || !(p > 0.0) || !std::isfinite(rho) || !std::isfinite(p)) bad = std::max(bad, a);
+  }
+  if (bad < 0) return;
+  const Primitive s = to_primitive(options_.gas, u.get(bad));
+  const Vec3& x = x_[std::size_t(bad)];
+  throw SolverError(fmt::format(
+      "fluid state not physical at node {} (tag {}, x = ({:.6g}, {:.6g}, {:.6g})) at t = {:.6g}: "
+      "rho = {:.6g}, u = ({:.6g}, {:.6g}, {:.6g}), p = {:.6g}; lower the CFL number or raise "
+      "q_dif",
+      bad, mesh_.node_tags.size() > std::size_t(bad) ? mesh_.node_tags[std::size_t(bad)] : 0,
+      x.x(), x.y(), x.z(), t, s.rho, s.velocity.x(), s.velocity.y(), s.velocity.z(),
+      s.pressure));
+}
+
+Vec3 FluidModel::pressure_force(std::string_view group_name) const {
+  const auto& group = mesh_.group(group_name);
+  // Each face is oriented away from the fourth node of the tetrahedron that owns it.
+  Vec3 force = Vec3::Zero();
+  for (Index f = 0; f < group.elements.size(); ++f) {
+    const auto n = group.elements.element(f);
+    const BoundaryFace face = boundaries_.owner_of(n[0], n[1], n[2]);
+    const Vec3 area = face_area_vector(x_, face);
+    double p = 0.0;
+    for (const Index a : n) p += options_.gas.pressure(state_.var[0][std::size_t(a)], state_.var[1][std::size_t(a)],
+                                                        state_.var[2][std::size_t(a)], state_.var[3][std::size_t(a)],
+                                                        state_.var[4][std::size_t(a)]);
+    force += area * (p / 3.0);
+  }
+  return force;
+}
+
+double FluidModel::total_mass() const {
+  double mass = 0.0;
+  for (std::size_t a = 0; a < std::size_t(mesh_.num_nodes()); ++a)
+    mass += geometry_.lumped_mass[a] * state_.var[0][a];
+  return mass;
+}
+
+}  // namespace shellflow::fluid
+
+namespace shellflow::fluid {
+namespace {
+template <class T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+std::size_t bytes(const FluidState& s) {
+  std::size_t b = 0;
+  for (const auto& v : s.var) b += bytes(v);
+  return b;
+}
+std::size_t bytes(const TetGeometry& g) {
+  return bytes(g.volume) + bytes(g.grad) + bytes(g.size) + bytes(g.lumped_mass);
+}
+}  // namespace
+
+std::size_t FluidModel::memory_bytes() const {
+  std::size_t b = bytes(mesh_.nodes) + bytes(mesh_.node_tags) + bytes(mesh_.cells.connectivity);
+  for (const auto& g : mesh_.groups) b += bytes(g.elements.connectivity) + bytes(g.nodes) + bytes(g.cells);
+  b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_);
+  b += bytes(geometry_) + bytes(next_geometry_);
+  b += bytes(state_) + bytes(next_state_) + bytes(residual_) + bytes(increment_) + bytes(mass_work_);
+  b += bytes(av_work_.pressure) + bytes(av_work_.nodal_viscosity) + bytes(av_work_.raw_viscosity);
+  for (const auto& g : av_work_.gradient) b += bytes(g);
+  b += bytes(viscosity_) + bytes(time_step_work_) + bytes(element_dt_) + bytes(nodal_dt_);
+  return b;  // boundary data (surface only) not counted
+}
+
+}  // namespace shellflow::fluid

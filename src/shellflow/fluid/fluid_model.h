@@ -1,0 +1,115 @@
+#pragma once
+// FluidModel: compressible Euler flow on a moving tetrahedral mesh, advanced by the
+// explicit one-step Taylor–Galerkin ALE scheme of fluid.md. One step:
+//   1. artificial viscosity from U^n; 2. residual on the geometry of x^n with the mesh
+//   velocity w of the step; 3. U* = U^n + r / M; 4. move to x^{n+1}, recompute geometry
+//   and normals; 5. boundary conditions on U*; 6. positivity check; 7. commit.
+// A failed step (inverted element, negative density or pressure) throws SolverError and
+// leaves the model at the last valid state, so the caller can still write it.
+#include <array>
+#include <functional>
+#include <span>
+#include <string_view>
+#include <vector>
+
+#include "shellflow/fluid/boundary.h"
+#include "shellflow/fluid/gas.h"
+#include "shellflow/fluid/geometry.h"
+#include "shellflow/fluid/ordering.h"
+#include "shellflow/fluid/residual.h"
+#include "shellflow/fluid/shock_capturing.h"
+#include "shellflow/fluid/state.h"
+#include "shellflow/mesh/mesh.h"
+
+namespace shellflow::fluid {
+
+struct FluidOptions {
+  IdealGas gas;
+  double q_dif = 0.0;        ///< artificial-viscosity coefficient (paper eq. 28), 0 = off
+  bool av_smoothing = true;  ///< spread nu over one element layer (fluid.md §7 step 5)
+  TgVelocity tg_velocity = TgVelocity::relative;
+  bool moving_mesh_correction = true;  ///< C2
+  /// 0: lumped mass (default); k > 0: consistent mass by k Jacobi iterations (spec: 3;
+  /// lowers the stable CFL to about 0.6x).
+  int consistent_mass_iterations = 0;
+};
+
+class FluidModel {
+ public:
+  /// `mesh`: 4-node tetrahedra (renumber it with renumber_for_locality first for speed;
+  /// node indices of the model are those of `mesh`). Throws InputError for a mesh that is
+  /// not tet4 or for bad boundary conditions, SolverError for an inverted element.
+  FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions);
+
+  /// Sets every node from a primitive field, then imposes the boundary conditions.
+  void set_state(const std::function<Primitive(const Vec3&)>& field);
+  /// Sets the conservative state as given (no boundary conditions applied).
+  void set_state(const FluidState& state);
+
+  /// Largest stable step times `cfl`, from h_e / (|u - w| + c) and the diffusion limit;
+  /// w is the mesh velocity of the last step (or set_mesh_velocity). Throws InputError for
+  /// cfl outside (0, 1] (lumped mass) or (0, 0.6] (consistent mass).
+  double stable_dt(double cfl);
+  /// Mesh velocity used by stable_dt before the first moving step.
+  void set_mesh_velocity(std::span<const Vec3> w);
+
+  /// One step on a fixed mesh.
+  void step(double dt);
+  /// One step during which the nodes move to `x_next`. `w` is the mesh velocity of the
+  /// step; empty: w = (x_next - x) / dt.
+  void step(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w = {});
+
+  /// One step towards a steady state with local time steps dt_a = cfl min_{e∋a} dt_e
+  /// (fluid.md §4.3); fixed mesh. time() advances by the smallest step.
+  void step_local(double cfl);
+
+  /// RMS over the nodes of d(rho)/dt in the last step (steady convergence monitor).
+  double density_rate() const { return density_rate_; }
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  const FluidState& state() const { return state_; }
+  Primitive primitive(Index node) const { return to_primitive(options_.gas, state_.get(node)); }
+  std::span<const Vec3> positions() const { return x_; }
+  std::span<const Vec3> mesh_velocity() const { return w_; }
+  const mesh::Mesh& mesh() const { return mesh_; }
+  const FluidOptions& options() const { return options_; }
+  const TetGeometry& geometry() const { return geometry_; }
+  const BoundarySet& boundaries() const { return boundaries_; }
+  int num_colours() const { return colours_.num_colours(); }
+  Index num_blocks() const { return colours_.num_blocks(); }
+  /// Force the gas exerts on the boundary group `group` (inviscid part of paper eq. 30):
+  /// F = integral of p n dA, n the outward normal of the fluid domain (pointing into the
+  /// structure), p linear on each face. Throws InputError for an unknown group.
+  Vec3 pressure_force(std::string_view group) const;
+  /// Bytes held by the model's arrays (mesh copy, geometry, states, work arrays).
+  std::size_t memory_bytes() const;
+  /// Total mass sum_a M_a rho_a (diagnostic; not exactly conserved on deforming meshes).
+  double total_mass() const;
+
+ private:
+  void advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w, bool local);
+  void check_cfl(double cfl) const;
+  void update_viscosity();
+  void check_positivity(const FluidState& u, double t) const;
+  ElementLoop loop() const { return {tets_, colours_.block_offsets, colours_.colour_offsets}; }
+
+  mesh::Mesh mesh_;
+  FluidOptions options_;
+  std::vector<Index> tets_;  // connectivity in colour order
+  CellColouring colours_;
+  std::vector<Vec3> x_, w_;
+  TetGeometry geometry_, next_geometry_;
+  BoundarySet boundaries_;
+  FluidState state_, next_state_, residual_, increment_, mass_work_;
+  ShockCapturingWorkspace av_work_;
+  std::vector<double> viscosity_;
+  std::vector<std::array<double, 4>> time_step_work_;
+  std::vector<double> element_dt_, nodal_dt_;
+  double density_rate_ = 0.0;
+  bool viscosity_valid_ = false;
+  double time_ = 0.0;
+  long steps_ = 0;
+};
+
+}  // namespace shellflow::fluid

@@ -1,0 +1,174 @@
+// Boundary conditions: wall constraints at faces, edges and corners, moving walls, input
+// errors, positivity and inversion errors that leave the last valid state.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "fluid_test_util.h"
+#include "shellflow/core/error.h"
+
+using namespace shellflow;
+using namespace shellflow::fluid;
+
+namespace {
+
+int count_on_boundary(const Vec3& x) {
+  int n = 0;
+  for (int j = 0; j < 3; ++j) n += (x[j] < 1e-9 || x[j] > 1 - 1e-9);
+  return n;
+}
+
+FluidModel wall_cube(WallVelocity wall_velocity = {}) {
+  FluidOptions o;
+  return FluidModel(test_support::case_mesh("unit_cube.geo"), o,
+                    {{"boundary", BoundaryKind::slip_wall, {}, std::move(wall_velocity)}});
+}
+
+Primitive random_state(const Vec3& x) {
+  return {1.0 + 0.1 * x.x(), Vec3(0.3 + x.y(), -0.2 + x.z(), 0.5 - x.x()), 2.0 + x.z()};
+}
+
+}  // namespace
+
+TEST(BoundaryConditions, SlipWallRemovesOneTwoOrThreeComponentsAtFacesEdgesAndCorners) {
+  auto model = wall_cube();
+  model.set_state(random_state);
+  for (Index a = 0; a < model.mesh().num_nodes(); ++a) {
+    const Vec3& x = model.positions()[std::size_t(a)];
+    const int on = count_on_boundary(x);
+    EXPECT_EQ(int(model.boundaries().wall_constraints(a).size()), on) << "node " << a;
+    const Primitive s = model.primitive(a);
+    const Primitive given = random_state(x);
+    for (int j = 0; j < 3; ++j) {
+      const bool constrained = x[j] < 1e-9 || x[j] > 1 - 1e-9;
+      EXPECT_NEAR(s.velocity[j], constrained ? 0.0 : given.velocity[j], 1e-12);
+    }
+    EXPECT_NEAR(s.pressure, given.pressure, 1e-12);  // the wall keeps the pressure
+    EXPECT_DOUBLE_EQ(s.rho, given.rho);
+  }
+}
+
+TEST(BoundaryConditions, MovingSlipWallImposesOnlyTheNormalWallVelocity) {
+  const Vec3 v_wall(0.3, -0.1, 0.2);
+  auto model = wall_cube([&](Index, const Vec3&, double) { return v_wall; });
+  model.set_state(random_state);
+  for (Index a = 0; a < model.mesh().num_nodes(); ++a) {
+    const Vec3& x = model.positions()[std::size_t(a)];
+    const Primitive s = model.primitive(a);
+    const Primitive given = random_state(x);
+    for (int j = 0; j < 3; ++j) {
+      const bool constrained = x[j] < 1e-9 || x[j] > 1 - 1e-9;
+      EXPECT_NEAR(s.velocity[j], constrained ? v_wall[j] : given.velocity[j], 1e-12);
+    }
+  }
+}
+
+TEST(BoundaryConditions, BadConditionsStopWithAMessageNamingTheGroup) {
+  const auto mesh = test_support::case_mesh("tube_nx100.geo");
+  FluidOptions o;
+  auto message = [&](std::vector<BoundaryCondition> bcs) {
+    try {
+      FluidModel model(mesh, o, std::move(bcs));
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const BoundaryCondition left{"left", BoundaryKind::slip_wall, {}, {}};
+  const BoundaryCondition right{"right", BoundaryKind::slip_wall, {}, {}};
+  const BoundaryCondition sides{"sides", BoundaryKind::symmetry, {}, {}};
+  EXPECT_NE(message({left, right}).find("'sides'"), std::string::npos);
+  EXPECT_NE(message({left, right, sides, {"nowhere", BoundaryKind::symmetry, {}, {}}})
+                .find("nowhere"),
+            std::string::npos);
+  const BoundaryCondition subsonic{"left", BoundaryKind::supersonic_inflow,
+                                   {1.0, Vec3(0.5, 0, 0), 1.0 / 1.4}, {}};
+  const auto m = message({subsonic, right, sides});
+  EXPECT_NE(m.find("Mach 0.5"), std::string::npos) << m;
+  EXPECT_NE(message({left, left, right, sides}).find("two conditions"), std::string::npos);
+}
+
+TEST(BoundaryConditions, NegativePressureStopsWithNodeTimeAndStateAndKeepsTheLastState) {
+  FluidOptions o;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {{"left", BoundaryKind::slip_wall, {}, {}},
+                    {"right", BoundaryKind::slip_wall, {}, {}},
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  model.set_state([](const Vec3& x) {
+    return x.x() < 0.5 ? Primitive{1.0, Vec3::Zero(), 1.0} : Primitive{1.0, Vec3::Zero(), 1e-4};
+  });
+  const double dt = 8.0 * model.stable_dt(1.0);  // far above the stable limit
+  std::string error;
+  FluidState last;
+  double t_last = 0;
+  for (int i = 0; i < 50 && error.empty(); ++i) {
+    last = model.state();
+    t_last = model.time();
+    try {
+      model.step(dt);
+    } catch (const SolverError& e) {
+      error = e.what();
+    }
+  }
+  ASSERT_FALSE(error.empty());
+  EXPECT_NE(error.find("node"), std::string::npos) << error;
+  EXPECT_NE(error.find("t = "), std::string::npos) << error;
+  EXPECT_NE(error.find("p = "), std::string::npos) << error;
+  EXPECT_EQ(model.time(), t_last);
+  EXPECT_EQ(model.state().var[4], last.var[4]);
+}
+
+TEST(BoundaryConditions, InvertingMeshUpdateStopsAndKeepsTheLastState) {
+  FluidOptions o;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {{"left", BoundaryKind::slip_wall, {}, {}},
+                    {"right", BoundaryKind::slip_wall, {}, {}},
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  model.set_state([](const Vec3&) { return Primitive{1.0, Vec3::Zero(), 1.0}; });
+  std::vector<Vec3> x(model.positions().begin(), model.positions().end());
+  const std::vector<Vec3> x0 = x;
+  for (auto& p : x)
+    if (std::abs(p.x() - 0.5) < 1e-9) p.x() += 0.02;  // beyond its neighbour at 0.51
+  try {
+    model.step(1e-4, x);
+    FAIL() << "no error";
+  } catch (const SolverError& e) {
+    EXPECT_NE(std::string(e.what()).find("inverted"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(model.time(), 0.0);
+  EXPECT_EQ(model.positions()[0], x0[0]);
+  for (std::size_t a = 0; a < x0.size(); ++a) ASSERT_EQ(model.positions()[a], x0[a]);
+}
+
+TEST(WallForce, UniformPressureOnAClosedSurfaceGivesNoNetForceAndPushesAWallOutward) {
+  FluidOptions o;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {{"left", BoundaryKind::slip_wall, {}, {}},
+                    {"right", BoundaryKind::slip_wall, {}, {}},
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  model.set_state([](const Vec3&) { return Primitive{1.0, Vec3::Zero(), 2.5}; });
+  const Vec3 total = model.pressure_force("left") + model.pressure_force("right") +
+                     model.pressure_force("sides");
+  EXPECT_LT(total.norm(), 1e-14);
+  // The gas pushes the wall at x = 0 towards -x with p times its area.
+  const Vec3 left = model.pressure_force("left");
+  EXPECT_NEAR(left.x(), -2.5 * 0.02 * 0.02, 1e-15);
+  EXPECT_NEAR(left.y(), 0.0, 1e-15);
+}
+
+TEST(BoundaryConditions, CflAboveTheStableLimitIsRejected) {
+  FluidOptions o;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {{"left", BoundaryKind::slip_wall, {}, {}},
+                    {"right", BoundaryKind::slip_wall, {}, {}},
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  model.set_state([](const Vec3&) { return Primitive{1.0, Vec3::Zero(), 1.0}; });
+  EXPECT_GT(model.stable_dt(0.5), 0.0);
+  try {
+    model.stable_dt(1.5);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("CFL number 1.5"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(model.step_local(-0.1), InputError);
+}
