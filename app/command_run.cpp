@@ -11,6 +11,7 @@
 
 #include "commands.h"
 #include "motion_run.h"
+#include "shell_run.h"
 #include "output_dir.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
@@ -97,6 +98,8 @@ int run_command(const CommonOptions& options) {
   if (c.motion) {
     // Prescribed boundary motion, no flow: the mesh-motion tests of the paper.
     run_mesh_motion(c, meshes, probes, state.views, outdir, options.plot);
+  } else if (c.shell && c.shell->analysis) {
+    run_shell(c, meshes, probes, state.views, outdir);
   } else {
     probes.record(time, state.views);
     spdlog::warn("the shell and fluid solvers are not available yet in this version: wrote the "

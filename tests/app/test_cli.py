@@ -147,6 +147,28 @@ class MeshAndRunCommands(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(self.out, "probes.png")) > 1000)
 
 
+class ShellRuns(unittest.TestCase):
+    """Static shell benchmarks run from their case files (cases/shell)."""
+
+    def test_sze31_end_shear_meets_the_elastica_at_every_level(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            case = os.path.join(ROOT, "cases", "shell", "sze31_end_shear.yaml")
+            r = shellflow("run", case, "-o", tmp, "--no-plot")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
+                rows = list(csv.reader(f))
+            self.assertEqual(rows[0], ["time", "tip_u", "tip_w"])
+            self.assertEqual(len(rows), 22)  # t = 0 and 20 load levels
+            check = subprocess.run(
+                [sys.executable, os.path.join(ROOT, "tools", "plot_load_displacement.py"),
+                 os.path.join(tmp, "probes.csv"),
+                 os.path.join(ROOT, "cases", "shell", "reference_sze31.csv"),
+                 "-o", os.path.join(tmp, "sze31.png"), "--check", "0.002"],
+                capture_output=True, text=True)
+            self.assertEqual(check.returncode, 0, check.stdout + check.stderr)
+            self.assertTrue(os.path.exists(os.path.join(tmp, "shell.pvd")))
+
+
 class MotionRuns(unittest.TestCase):
     """Prescribed panel motion moving the panel fluid mesh (cases/motion)."""
 

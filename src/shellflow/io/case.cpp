@@ -30,6 +30,9 @@ constexpr std::array<std::string_view, 3> kMotionMethodNames = {"space_mesh", "d
                                                                 "laplace"};
 constexpr std::array<std::string_view, 2> kWeightingNames = {"plain", "area"};
 enum class TimeFunctionType { constant, ramp, sine, tabulated };
+constexpr std::array<std::string_view, 5> kShellLoadNames = {"line", "point", "edge_couple",
+                                                             "pressure", "gravity"};
+constexpr std::array<std::string_view, 2> kAnalysisNames = {"static", "dynamic"};
 constexpr std::array<std::string_view, 4> kTimeFunctionNames = {"constant", "ramp", "sine",
                                                                 "tabulated"};
 
@@ -141,6 +144,40 @@ MeshesSection read_meshes(const YamlNode& root) {
   return meshes;
 }
 
+/// A time function: {type: constant|ramp|sine|tabulated, ...} (docs/case-format.md).
+TimeFunction read_time_function(const YamlNode& node) {
+  node.expect_map();
+  TimeFunction f = TimeFunction::constant(0.0);
+  switch (node.enumeration<TimeFunctionType>("type", kTimeFunctionNames)) {
+    case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
+    case TimeFunctionType::ramp:
+      f = TimeFunction::ramp(node.required<double>("value"),
+                             node.required<double>("duration", Range::positive(), "s"));
+      break;
+    case TimeFunctionType::sine:
+      f = TimeFunction::sine(node.required<double>("value"),
+                             node.required<double>("frequency", Range::positive(), "Hz"),
+                             node.optional<double>("phase", 0.0, Range::any(), "rad"));
+      break;
+    case TimeFunctionType::tabulated: {
+      std::vector<double> times, values;
+      for (const YamlNode& t : node.list("times")) times.push_back(t.as<double>());
+      for (const YamlNode& v : node.list("values")) values.push_back(v.as<double>());
+      if (times.empty() || times.size() != values.size()) {
+        node.fail("values", fmt::format("expected as many values as times (at least one), got {} "
+                                        "times and {} values", times.size(), values.size()));
+      }
+      for (std::size_t i = 1; i < times.size(); ++i) {
+        if (!(times[i] > times[i - 1])) node.fail("times", "must be strictly increasing");
+      }
+      f = TimeFunction::tabulated(std::move(times), std::move(values));
+      break;
+    }
+  }
+  node.finish();
+  return f;
+}
+
 ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs) {
   ShellSection shell;
   shell.thickness = node.required<double>("thickness", Range::positive(), "m");
@@ -160,11 +197,62 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     s.type = item.enumeration<SupportType>("type", kSupportNames);
     if (s.type == SupportType::sliding) {
       s.direction = unit_vector(item, "direction", item.vec3("direction"));
-    } else if (item.has("direction")) {
-      item.fail("direction", "applies only to supports of type 'sliding'");
+      s.clamp_director = item.optional<bool>("clamp_director", true);
+    } else {
+      if (item.has("direction")) item.fail("direction", "applies only to supports of type 'sliding'");
+      if (item.has("clamp_director")) {
+        item.fail("clamp_director", "applies only to supports of type 'sliding'");
+      }
+    }
+    if (s.type == SupportType::symmetry) {
+      s.normal = unit_vector(item, "normal", item.vec3("normal"));
+    } else if (item.has("normal")) {
+      item.fail("normal", "applies only to supports of type 'symmetry'");
     }
     item.finish();
     shell.supports.push_back(std::move(s));
+  }
+  for (const YamlNode& item : node.optional_list("loads")) {
+    item.expect_map();
+    ShellLoad load;
+    load.where = item.location();
+    load.type = item.enumeration<ShellLoadType>("type", kShellLoadNames);
+    switch (load.type) {
+      case ShellLoadType::line:
+        load.group = read_group(item, "shell", refs);
+        load.vector = item.vec3("force_per_length");
+        break;
+      case ShellLoadType::point:
+        load.point = item.vec3("point");
+        load.vector = item.vec3("force");
+        break;
+      case ShellLoadType::edge_couple:
+        load.group = read_group(item, "shell", refs);
+        load.vector = unit_vector(item, "axis", item.vec3("axis"));
+        load.value = item.required<double>("moment_per_length");
+        break;
+      case ShellLoadType::pressure:
+        if (item.has("group")) load.group = read_group(item, "shell", refs);
+        load.value = item.required<double>("pressure");
+        break;
+      case ShellLoadType::gravity: load.vector = item.vec3("acceleration"); break;
+    }
+    item.finish();
+    shell.loads.push_back(std::move(load));
+  }
+  if (auto a = node.optional_child("analysis")) {
+    ShellAnalysis analysis;
+    analysis.where = a->location();
+    const auto type = a->choice("type", kAnalysisNames);
+    analysis.type = type == "static" ? ShellAnalysisType::static_load : ShellAnalysisType::dynamic;
+    if (analysis.type == ShellAnalysisType::static_load) {
+      analysis.steps = a->optional<int>("steps", 10, Range::at_least(1));
+    } else {
+      if (auto f = a->optional_child("load_function")) analysis.load_function = read_time_function(*f);
+      analysis.mass_damping = a->optional<double>("mass_damping", 0.0, Range::non_negative(), "1/s");
+    }
+    a->finish();
+    shell.analysis = std::move(analysis);
   }
   node.finish();
   return shell;
@@ -300,40 +388,6 @@ std::vector<Probe> read_probes(const YamlNode& root, const MeshesSection& meshes
   return probes;
 }
 
-/// A time function: {type: constant|ramp|sine|tabulated, ...} (docs/case-format.md).
-TimeFunction read_time_function(const YamlNode& node) {
-  node.expect_map();
-  TimeFunction f = TimeFunction::constant(0.0);
-  switch (node.enumeration<TimeFunctionType>("type", kTimeFunctionNames)) {
-    case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
-    case TimeFunctionType::ramp:
-      f = TimeFunction::ramp(node.required<double>("value"),
-                             node.required<double>("duration", Range::positive(), "s"));
-      break;
-    case TimeFunctionType::sine:
-      f = TimeFunction::sine(node.required<double>("value"),
-                             node.required<double>("frequency", Range::positive(), "Hz"),
-                             node.optional<double>("phase", 0.0, Range::any(), "rad"));
-      break;
-    case TimeFunctionType::tabulated: {
-      std::vector<double> times, values;
-      for (const YamlNode& t : node.list("times")) times.push_back(t.as<double>());
-      for (const YamlNode& v : node.list("values")) values.push_back(v.as<double>());
-      if (times.empty() || times.size() != values.size()) {
-        node.fail("values", fmt::format("expected as many values as times (at least one), got {} "
-                                        "times and {} values", times.size(), values.size()));
-      }
-      for (std::size_t i = 1; i < times.size(); ++i) {
-        if (!(times[i] > times[i - 1])) node.fail("times", "must be strictly increasing");
-      }
-      f = TimeFunction::tabulated(std::move(times), std::move(values));
-      break;
-    }
-  }
-  node.finish();
-  return f;
-}
-
 std::vector<std::string> read_group_list(const YamlNode& node, std::string_view key,
                                          const std::vector<std::string_view>& meshes,
                                          std::vector<GroupReference>& refs) {
@@ -430,6 +484,15 @@ Case read_case(const YamlNode& root) {
     c.motion = read_motion(*node, c.meshes, c.group_references);
   }
   if (auto node = root.optional_child("time")) c.time = read_time(*node);
+  if (c.shell && c.shell->analysis && c.shell->analysis->type == ShellAnalysisType::dynamic &&
+      !c.time) {
+    throw_at(c.shell->analysis->where, "a dynamic analysis needs a 'time' section (end, step)");
+  }
+  if (c.motion && c.shell && c.shell->analysis) {
+    throw_at(c.shell->analysis->where,
+             "a shell analysis together with a mesh motion needs the fluid-structure coupling, "
+             "which is not available yet; remove one of 'shell.analysis' and 'motion'");
+  }
   c.probes = read_probes(root, c.meshes, c.group_references);
   c.output = read_output(root, c.name);
   root.finish();
@@ -491,6 +554,7 @@ std::string_view to_string(ProbeComponent c) {
   return kComponentNames[static_cast<std::size_t>(c)];
 }
 std::string_view to_string(ProbeLocation l) { return kLocationNames[static_cast<std::size_t>(l)]; }
+std::string_view to_string(ShellLoadType t) { return kShellLoadNames[static_cast<std::size_t>(t)]; }
 std::string_view to_string(MotionMethod m) {
   return kMotionMethodNames[static_cast<std::size_t>(m)];
 }

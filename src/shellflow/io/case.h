@@ -67,13 +67,41 @@ struct Support {
   std::string group;  ///< physical group of the shell mesh
   SupportType type = SupportType::clamped;
   Vec3 direction = Vec3::Zero();  ///< `sliding` only: unit vector of the allowed motion
+  bool clamp_director = true;     ///< `sliding` only: director fixed (clamped-sliding)
+  Vec3 normal = Vec3::Zero();     ///< `symmetry` only: unit normal of the symmetry plane
   SourceLocation where;           ///< the list item `shell.supports[i]`
+};
+
+enum class ShellLoadType { line, point, edge_couple, pressure, gravity };
+
+/// A load at load factor 1 (static) or scaled by the analysis' load function (dynamic).
+struct ShellLoad {
+  ShellLoadType type = ShellLoadType::line;
+  std::string group;             ///< line, edge_couple: a line group; pressure: a surface
+                                 ///< group or empty (the whole shell)
+  Vec3 vector = Vec3::Zero();    ///< line: force per length [N/m]; point: force [N];
+                                 ///< gravity: acceleration [m/s^2]; edge_couple: axis (unit)
+  double value = 0.0;            ///< edge_couple: moment per length [N]; pressure [Pa]
+  Vec3 point = Vec3::Zero();     ///< point: where (the nearest shell node takes the force)
+  SourceLocation where;
+};
+
+enum class ShellAnalysisType { static_load, dynamic };
+
+struct ShellAnalysis {
+  ShellAnalysisType type = ShellAnalysisType::static_load;
+  int steps = 10;                ///< static: load increments to load factor 1
+  TimeFunction load_function = TimeFunction::constant(1.0);  ///< dynamic: load factor(t)
+  double mass_damping = 0.0;     ///< dynamic: c_m in C = c_m M [1/s]
+  SourceLocation where;
 };
 
 struct ShellSection {
   double thickness = 0.0;  ///< h [m], > 0
   Material material;
   std::vector<Support> supports;
+  std::vector<ShellLoad> loads;
+  std::optional<ShellAnalysis> analysis;  ///< absent: the shell is not solved
 };
 
 // ---- fluid ------------------------------------------------------------------------------------
@@ -242,6 +270,7 @@ std::string_view to_string(ProbeComponent c);
 std::string_view to_string(ProbeLocation l);
 std::string_view to_string(ProbeReduce r);
 std::string_view to_string(MotionMethod m);
+std::string_view to_string(ShellLoadType t);
 std::string_view to_string(MotionWeighting w);
 
 }  // namespace shellflow::io

@@ -1,0 +1,168 @@
+#include "shell_run.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+
+#include "shellflow/core/error.h"
+#include "shellflow/core/progress.h"
+#include "shellflow/io/mesh_output.h"
+#include "shellflow/io/pvd_writer.h"
+#include "shellflow/mesh/spatial_index.h"
+#include "shellflow/shell/newmark_solver.h"
+#include "shellflow/shell/shell_model.h"
+#include "shellflow/shell/static_solver.h"
+
+namespace shellflow::app {
+namespace {
+
+/// The coordinate axis of a unit vector; the shell's supports act along global axes.
+int axis_of(const Vec3& v, const io::SourceLocation& where, std::string_view key) {
+  Index axis = 0;
+  if (v.cwiseAbs().maxCoeff(&axis) < 1.0 - 1e-12) {
+    throw_at(where, fmt::format("{} ({}, {}, {}) must be a coordinate axis in this version", key,
+                                v.x(), v.y(), v.z()));
+  }
+  return static_cast<int>(axis);
+}
+
+shell::ShellModel build_model(const io::ShellSection& s, const mesh::Mesh& mesh) {
+  shell::ShellSection section;
+  section.thickness = s.thickness;
+  section.material = {s.material.young_modulus, s.material.poisson_ratio, s.material.density};
+  shell::ShellModel model(mesh, section);
+  for (const io::Support& support : s.supports) {
+    switch (support.type) {
+      case io::SupportType::clamped: model.add_support(shell::Support::clamped(support.group)); break;
+      case io::SupportType::simply_supported:
+        model.add_support(shell::Support::simply_supported(support.group));
+        break;
+      case io::SupportType::symmetry:
+        model.add_support(shell::Support::symmetry_plane(
+            support.group, axis_of(support.normal, support.where, "normal")));
+        break;
+      case io::SupportType::sliding:
+        model.add_support(shell::Support::sliding(
+            support.group, axis_of(support.direction, support.where, "direction"),
+            support.clamp_director));
+        break;
+      case io::SupportType::prescribed:
+        throw_at(support.where, "prescribed support motion is not available yet in this version");
+    }
+  }
+  const mesh::PointIndex nodes(mesh.nodes);
+  for (const io::ShellLoad& load : s.loads) {
+    switch (load.type) {
+      case io::ShellLoadType::line: model.add_line_load({load.group, load.vector}); break;
+      case io::ShellLoadType::point: {
+        const auto hit = nodes.nearest(load.point);
+        if (hit.distance > 1e-6 * model.reference_length()) {
+          throw_at(load.where, fmt::format("no shell node at ({}, {}, {}): the nearest is {:.3g} m "
+                                           "away; put point loads on a node",
+                                           load.point.x(), load.point.y(), load.point.z(),
+                                           hit.distance));
+        }
+        model.add_point_load({hit.index, load.vector});
+        break;
+      }
+      case io::ShellLoadType::edge_couple:
+        model.add_edge_couple({load.group, load.vector, load.value});
+        break;
+      case io::ShellLoadType::pressure: model.add_follower_pressure({load.group, load.value}); break;
+      case io::ShellLoadType::gravity: model.add_gravity(load.vector); break;
+    }
+  }
+  return model;
+}
+
+/// Node-major 3-vectors of the dofs [offset, offset + 3) of every node.
+std::vector<double> nodal_part(const Eigen::VectorXd& u, Index nodes, int offset) {
+  std::vector<double> out(3 * static_cast<std::size_t>(nodes));
+  for (Index n = 0; n < nodes; ++n)
+    for (int i = 0; i < 3; ++i)
+      out[3 * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)] =
+          u[shell::dofs_per_node * n + offset + i];
+  return out;
+}
+
+}  // namespace
+
+void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
+               std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir) {
+  const io::ShellSection& s = *c.shell;
+  const io::ShellAnalysis& analysis = *s.analysis;
+  const mesh::Mesh& mesh = *meshes.shell;
+  shell::ShellModel model = build_model(s, mesh);
+  const Index n = mesh.num_nodes();
+  io::PvdWriter pvd(outdir, "shell");
+
+  // Records probes and (every output.every steps) fields of state u, v at time / level t.
+  auto record = [&](long step, double t, const Eigen::VectorXd& u, const Eigen::VectorXd* v,
+                    bool write_fields) {
+    const auto displacement = nodal_part(u, n, 0);
+    std::vector<double> director = nodal_part(u, n, 3);
+    for (Index k = 0; k < n; ++k)
+      for (int i = 0; i < 3; ++i) director[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)] += model.directors()[static_cast<std::size_t>(k)][i];
+    std::vector<double> position(3 * static_cast<std::size_t>(n)), thickness(static_cast<std::size_t>(n));
+    for (Index k = 0; k < n; ++k) {
+      for (int i = 0; i < 3; ++i)
+        position[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)] = mesh.nodes[static_cast<std::size_t>(k)][i] + displacement[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)];
+      thickness[static_cast<std::size_t>(k)] = u[shell::dofs_per_node * k + 6];
+    }
+    const std::vector<double> velocity = v ? nodal_part(*v, n, 0) : std::vector<double>(3 * static_cast<std::size_t>(n), 0.0);
+    std::vector<io::FieldView> fields;
+    for (const auto& f : initial_fields)
+      if (f.mesh != "shell") fields.push_back(f);
+    fields.push_back({"shell", "displacement", 3, displacement});
+    fields.push_back({"shell", "velocity", 3, velocity});
+    fields.push_back({"shell", "position", 3, position});
+    probes.record(t, fields);
+    if (!write_fields) return;
+    std::vector<Vec3> x(static_cast<std::size_t>(n));
+    for (Index k = 0; k < n; ++k)
+      x[static_cast<std::size_t>(k)] = Vec3(position[3 * static_cast<std::size_t>(k)], position[3 * static_cast<std::size_t>(k) + 1], position[3 * static_cast<std::size_t>(k) + 2]);
+    const std::string name = fmt::format("shell_{:06}.vtu", step);
+    io::write_mesh_vtu(outdir / name, mesh,
+                       {{"displacement", 3, displacement},
+                        {"velocity", 3, velocity},
+                        {"director", 3, director},
+                        {"thickness_parameter", 1, thickness}},
+                       t, x);
+    pvd.add(t, name);
+  };
+
+  if (analysis.type == io::ShellAnalysisType::static_load) {
+    shell::StaticSolver solver(model);
+    record(0, 0.0, solver.displacement(), nullptr, true);
+    long step = 0;
+    solver.run(analysis.steps, 1.0, [&](const shell::LoadStep& level) {
+      ++step;
+      spdlog::info("load factor {:.4f}: converged in {} Newton iterations", level.load_factor,
+                   level.iterations);
+      record(step, level.load_factor, solver.displacement(), nullptr,
+             step % c.output.every == 0 || level.load_factor >= 1.0 - 1e-12);
+    });
+    return;
+  }
+
+  const TimeFunction load_function = analysis.load_function;
+  shell::NewmarkOptions options;
+  options.mass_damping = analysis.mass_damping;
+  shell::NewmarkSolver solver(model, options, [&](double t) { return load_function.value(t); });
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
+  solver.set_initial_state(zero, zero);
+  record(0, 0.0, solver.displacement(), &solver.velocity(), true);
+  const double dt = c.time->step;
+  const auto steps = static_cast<long>(std::llround(c.time->end / dt));
+  Progress progress(0.0, c.time->end);
+  for (long step = 1; step <= steps; ++step) {
+    solver.advance(dt);
+    record(step, solver.time(), solver.displacement(), &solver.velocity(),
+           step % c.output.every == 0 || step == steps);
+    progress.update(solver.time(), step);
+  }
+  progress.finish();
+}
+
+}  // namespace shellflow::app
