@@ -493,3 +493,61 @@ TEST(CheckPhysicalGroups, MotionGroupsAreCheckedOnTheSpaceMeshToo) {
 
 }  // namespace
 }  // namespace shellflow::io
+
+namespace shellflow::io {
+namespace {
+
+const std::string kShellCase =
+    "name: t\n"
+    "meshes: { shell: { geo: panel_strip.geo } }\n"
+    "shell:\n"
+    "  thickness: 0.1\n"
+    "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n";
+
+TEST(ReadCase, ShellLoadsAndAnalysisParse) {
+  const Case c = read_case_string(
+      kShellCase +
+          "  supports:\n"
+          "    - { group: a, type: symmetry, normal: [0, 0, 2] }\n"
+          "    - { group: b, type: sliding, direction: [1, 0, 0], clamp_director: false }\n"
+          "  loads:\n"
+          "    - { type: line, group: tip, force_per_length: [0, 0, 4] }\n"
+          "    - { type: point, point: [1, 0, 0], force: [0, 1, 0] }\n"
+          "    - { type: edge_couple, group: tip, axis: [0, -2, 0], moment_per_length: 5 }\n"
+          "    - { type: pressure, pressure: 100 }\n"
+          "    - { type: gravity, acceleration: [0, 0, -9.81] }\n"
+          "  analysis: { type: dynamic, mass_damping: 0.5,\n"
+          "              load_function: { type: ramp, value: 2, duration: 0.1 } }\n"
+          "time: { end: 1, step: 0.1 }\n",
+      data("inline.yaml"));
+  ASSERT_TRUE(c.shell && c.shell->analysis);
+  const auto& s = *c.shell;
+  EXPECT_EQ(s.supports[0].normal, Vec3::UnitZ());
+  EXPECT_FALSE(s.supports[1].clamp_director);
+  ASSERT_EQ(s.loads.size(), 5u);
+  EXPECT_EQ(s.loads[0].type, ShellLoadType::line);
+  EXPECT_EQ(s.loads[0].group, "tip");
+  EXPECT_EQ(s.loads[1].point, Vec3::UnitX());
+  EXPECT_EQ(s.loads[2].vector, -Vec3::UnitY());
+  EXPECT_EQ(s.loads[2].value, 5.0);
+  EXPECT_TRUE(s.loads[3].group.empty());
+  EXPECT_EQ(s.loads[4].vector, Vec3(0, 0, -9.81));
+  EXPECT_EQ(s.analysis->type, ShellAnalysisType::dynamic);
+  EXPECT_EQ(s.analysis->mass_damping, 0.5);
+  EXPECT_DOUBLE_EQ(s.analysis->load_function.value(0.05), 1.0);
+}
+
+TEST(ReadCaseErrors, ShellSupportsLoadsAndAnalysis) {
+  EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: symmetry } ]\n"),
+            at("inline.yaml", 6, "shell.supports[0]: missing required key 'normal'"));
+  EXPECT_EQ(text_error(kShellCase + "  loads: [ { type: line, group: a } ]\n"),
+            at("inline.yaml", 6, "shell.loads[0]: missing required key 'force_per_length'"));
+  EXPECT_EQ(text_error(kShellCase + "  analysis: { type: dynamic }\n"),
+            at("inline.yaml", 6, "shell.analysis: a dynamic analysis needs a 'time' section "
+                                 "(end, step)"));
+  EXPECT_EQ(text_error(kShellCase + "  analysis: { type: static, steps: 0 }\n"),
+            at("inline.yaml", 6, "shell.analysis.steps: must be >= 1, got 0"));
+}
+
+}  // namespace
+}  // namespace shellflow::io
