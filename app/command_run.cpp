@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "motion_run.h"
 #include "shell_run.h"
+#include "fluid_run.h"
 #include "output_dir.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
@@ -100,6 +101,8 @@ int run_command(const CommonOptions& options) {
     run_mesh_motion(c, meshes, probes, state.views, outdir, options.plot);
   } else if (c.shell && c.shell->analysis) {
     run_shell(c, meshes, probes, state.views, outdir);
+  } else if (c.fluid && c.fluid->analysis) {
+    run_fluid(c, meshes, probes, state.views, outdir);
   } else {
     probes.record(time, state.views);
     spdlog::warn("the shell and fluid solvers are not available yet in this version: wrote the "

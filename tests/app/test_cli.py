@@ -169,6 +169,29 @@ class ShellRuns(unittest.TestCase):
             self.assertTrue(os.path.exists(os.path.join(tmp, "shell.pvd")))
 
 
+class FlowRuns(unittest.TestCase):
+    """Flow cases run from their case files (cases/fluid)."""
+
+    def test_sod_plateau_pressure_and_density(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            r = shellflow("run", os.path.join(ROOT, "cases", "fluid", "sod.yaml"), "-o", tmp,
+                          "--no-plot")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
+                rows = list(csv.reader(f))
+            self.assertEqual(rows[0], ["time", "rho_x0.6", "p_x0.6"])
+            t, rho, p = (float(v) for v in rows[-1])
+            self.assertAlmostEqual(t, 0.2, places=12)
+            # x = 0.6 lies between the rarefaction tail (0.486) and the contact (0.685).
+            self.assertLess(abs(p - 0.3031301781) / 0.3031301781, 0.01)
+            self.assertLess(abs(rho - 0.4263194282) / 0.4263194282, 0.02)
+            import meshio
+
+            m = meshio.read(os.path.join(tmp, "fluid_000000.vtu"))
+            for name in ("density", "velocity", "pressure", "mach", "temperature"):
+                self.assertIn(name, m.point_data)
+
+
 class MotionRuns(unittest.TestCase):
     """Prescribed panel motion moving the panel fluid mesh (cases/motion)."""
 

@@ -551,3 +551,47 @@ TEST(ReadCaseErrors, ShellSupportsLoadsAndAnalysis) {
 
 }  // namespace
 }  // namespace shellflow::io
+
+namespace shellflow::io {
+namespace {
+
+const std::string kFluidCase =
+    "name: t\n"
+    "meshes: { fluid: { geo: fluid_slab.geo } }\n"
+    "fluid:\n"
+    "  free_stream: { density: 1, pressure: 1, mach: 0 }\n";
+
+TEST(ReadCase, FluidAnalysisParses) {
+  const Case c = read_case_string(
+      kFluidCase +
+          "  analysis:\n"
+          "    type: transient\n"
+          "    cfl: 1.0\n"
+          "    q_dif: 0.5\n"
+          "    riemann: { position: 0.5, left: { density: 1, pressure: 1 },\n"
+          "               right: { density: 0.125, pressure: 0.1, velocity: [1, 0, 0] } }\n"
+          "time: { end: 0.2 }\n",
+      data("inline.yaml"));
+  ASSERT_TRUE(c.fluid && c.fluid->analysis && c.fluid->analysis->riemann);
+  const auto& a = *c.fluid->analysis;
+  EXPECT_EQ(a.type, FluidAnalysisType::transient);
+  EXPECT_EQ(a.cfl, 1.0);
+  EXPECT_EQ(a.q_dif, 0.5);
+  EXPECT_EQ(a.riemann->normal, Vec3::UnitX());
+  EXPECT_EQ(a.riemann->right.velocity, Vec3::UnitX());
+  EXPECT_EQ(c.time->step, 0.0);  // not given: the flow takes its step from the CFL number
+}
+
+TEST(ReadCaseErrors, FluidAnalysis) {
+  EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: transient }\n"),
+            at("inline.yaml", 5, "fluid.analysis: a transient flow analysis needs a 'time' "
+                                 "section (end; the step follows from cfl)"));
+  EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: steady, cfl: 1.5 }\n"),
+            at("inline.yaml", 5, "fluid.analysis.cfl: must be in (0, 1], got 1.5"));
+  EXPECT_EQ(text_error(kFluidCase +
+                       "  analysis: { type: steady, consistent_mass_iterations: 3, cfl: 0.9 }\n"),
+            at("inline.yaml", 5, "fluid.analysis.cfl: must be in (0, 0.6], got 0.9"));
+}
+
+}  // namespace
+}  // namespace shellflow::io

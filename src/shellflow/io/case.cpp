@@ -291,6 +291,39 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
     item.finish();
     fluid.boundaries.push_back(std::move(b));
   }
+  if (auto a = node.optional_child("analysis")) {
+    FluidAnalysis analysis;
+    analysis.where = a->location();
+    analysis.type = a->choice("type", {"transient", "steady"}) == "steady"
+                        ? FluidAnalysisType::steady
+                        : FluidAnalysisType::transient;
+    analysis.q_dif = a->optional<double>("q_dif", 0.0, Range::non_negative());
+    analysis.consistent_mass_iterations =
+        a->optional<int>("consistent_mass_iterations", 0, Range::in_range(0, 20));
+    analysis.cfl = a->optional<double>(
+        "cfl", 0.5,
+        Range{0.0, analysis.consistent_mass_iterations > 0 ? 0.6 : 1.0, true, false});
+    if (analysis.type == FluidAnalysisType::steady) {
+      analysis.steps = a->optional<int>("steps", 1000, Range::at_least(1));
+    }
+    if (auto r = a->optional_child("riemann")) {
+      RiemannInitial riemann;
+      riemann.normal = unit_vector(*r, "normal", r->vec3("normal", Vec3::UnitX()));
+      riemann.position = r->required<double>("position", Range::any(), "m");
+      for (auto side : {"left", "right"}) {
+        const YamlNode g = r->child(side);
+        GasState& state = std::string_view(side) == "left" ? riemann.left : riemann.right;
+        state.density = g.required<double>("density", Range::positive(), "kg/m^3");
+        state.velocity = g.vec3("velocity", Vec3::Zero());
+        state.pressure = g.required<double>("pressure", Range::positive(), "Pa");
+        g.finish();
+      }
+      r->finish();
+      analysis.riemann = riemann;
+    }
+    a->finish();
+    fluid.analysis = analysis;
+  }
   node.finish();
   return fluid;
 }
@@ -445,7 +478,7 @@ MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes,
 TimeSection read_time(const YamlNode& node) {
   TimeSection t;
   t.end = node.required<double>("end", Range::positive(), "s");
-  t.step = node.required<double>("step", Range::positive(), "s");
+  t.step = node.optional<double>("step", 0.0, Range::positive(), "s");
   if (t.step > t.end) node.fail("step", fmt::format("must not exceed time.end = {} s", t.end));
   node.finish();
   return t;
@@ -485,14 +518,27 @@ Case read_case(const YamlNode& root) {
   }
   if (auto node = root.optional_child("time")) c.time = read_time(*node);
   if (c.shell && c.shell->analysis && c.shell->analysis->type == ShellAnalysisType::dynamic &&
-      !c.time) {
+      !(c.time && c.time->step > 0)) {
     throw_at(c.shell->analysis->where, "a dynamic analysis needs a 'time' section (end, step)");
   }
-  if (c.motion && c.shell && c.shell->analysis) {
-    throw_at(c.shell->analysis->where,
-             "a shell analysis together with a mesh motion needs the fluid-structure coupling, "
-             "which is not available yet; remove one of 'shell.analysis' and 'motion'");
+  if (c.motion && !(c.time && c.time->step > 0)) {
+    throw_at(c.motion->where, "a mesh-motion run needs a 'time' section (end, step)");
   }
+  if (c.fluid && c.fluid->analysis && c.fluid->analysis->type == FluidAnalysisType::transient &&
+      !c.time) {
+    throw_at(c.fluid->analysis->where,
+             "a transient flow analysis needs a 'time' section (end; the step follows from cfl)");
+  }
+  {
+    int solvers = (c.motion ? 1 : 0) + (c.shell && c.shell->analysis ? 1 : 0) +
+                  (c.fluid && c.fluid->analysis ? 1 : 0);
+    if (solvers > 1) {
+      throw_at(c.motion ? c.motion->where : c.fluid->analysis->where,
+               "combining mesh motion, a shell analysis and a flow analysis needs the "
+               "fluid-structure coupling, which is not available yet; keep one of them");
+    }
+  }
+
   c.probes = read_probes(root, c.meshes, c.group_references);
   c.output = read_output(root, c.name);
   root.finish();

@@ -133,10 +133,37 @@ struct FluidBoundary {
   SourceLocation where;  ///< the list item `fluid.boundaries[i]`
 };
 
+/// A gas state given by density, velocity and pressure.
+struct GasState {
+  double density = 0.0;          ///< [kg/m^3], > 0
+  Vec3 velocity = Vec3::Zero();  ///< [m/s]
+  double pressure = 0.0;         ///< [Pa], > 0
+};
+
+/// Initial condition of a Riemann problem: `left` where (x - position n) . n < 0.
+struct RiemannInitial {
+  Vec3 normal = Vec3::UnitX();  ///< unit
+  double position = 0.0;        ///< [m] along normal
+  GasState left, right;
+};
+
+enum class FluidAnalysisType { transient, steady };
+
+struct FluidAnalysis {
+  FluidAnalysisType type = FluidAnalysisType::transient;
+  double cfl = 0.5;                    ///< (0, 1] lumped mass, (0, 0.6] consistent
+  int steps = 1000;                    ///< steady: local time steps
+  double q_dif = 0.0;                  ///< artificial viscosity coefficient (paper eq. 28)
+  int consistent_mass_iterations = 0;  ///< 0: lumped mass
+  std::optional<RiemannInitial> riemann;  ///< initial state; absent: the free stream
+  SourceLocation where;
+};
+
 struct FluidSection {
   Gas gas;
   FreeStream free_stream;
   std::vector<FluidBoundary> boundaries;
+  std::optional<FluidAnalysis> analysis;  ///< absent: the flow is not solved
 };
 
 // ---- mesh motion ------------------------------------------------------------------------------
@@ -181,7 +208,7 @@ struct MotionSection {
 
 struct TimeSection {
   double end = 0.0;   ///< [s], > 0
-  double step = 0.0;  ///< [s], > 0
+  double step = 0.0;  ///< [s], > 0; 0 when not given (a flow run takes its step from cfl)
 };
 
 // ---- probes -----------------------------------------------------------------------------------

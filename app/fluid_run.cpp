@@ -1,0 +1,164 @@
+#include "fluid_run.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "shellflow/core/error.h"
+#include "shellflow/core/progress.h"
+#include "shellflow/fluid/fluid_model.h"
+#include "shellflow/fluid/ordering.h"
+#include "shellflow/io/mesh_output.h"
+#include "shellflow/io/pvd_writer.h"
+
+namespace shellflow::app {
+namespace {
+
+fluid::BoundaryKind kind_of(const io::FluidBoundary& b) {
+  switch (b.type) {
+    case io::FluidBoundaryType::supersonic_inflow: return fluid::BoundaryKind::supersonic_inflow;
+    case io::FluidBoundaryType::supersonic_outflow: return fluid::BoundaryKind::supersonic_outflow;
+    case io::FluidBoundaryType::far_field: return fluid::BoundaryKind::far_field;
+    case io::FluidBoundaryType::slip_wall: return fluid::BoundaryKind::slip_wall;
+    case io::FluidBoundaryType::symmetry: return fluid::BoundaryKind::symmetry;
+    case io::FluidBoundaryType::no_slip_wall: break;
+  }
+  throw_at(b.where, "no-slip walls need the viscous terms, which are not available yet; use "
+                    "slip_wall");
+}
+
+fluid::Primitive primitive(const io::GasState& g) { return {g.density, g.velocity, g.pressure}; }
+
+/// Nodal fields of the flow, in the case mesh's node order.
+struct FlowFields {
+  std::vector<double> density, pressure, temperature, mach, energy, velocity, momentum, mesh_velocity;
+};
+
+FlowFields flow_fields(const fluid::FluidModel& model, const std::vector<Index>& new_index) {
+  const auto& gas = model.options().gas;
+  const std::size_t n = new_index.size();
+  FlowFields f;
+  f.density.resize(n);
+  f.pressure.resize(n);
+  f.temperature.resize(n);
+  f.mach.resize(n);
+  f.energy.resize(n);
+  f.velocity.resize(3 * n);
+  f.momentum.resize(3 * n);
+  f.mesh_velocity.assign(3 * n, 0.0);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Index k = new_index[i];
+    const fluid::Primitive p = model.primitive(k);
+    const auto q = model.state().get(k);
+    f.density[i] = p.rho;
+    f.pressure[i] = p.pressure;
+    f.temperature[i] = gas.temperature(p.rho, p.pressure);
+    f.mach[i] = p.velocity.norm() / gas.sound_speed(p.rho, p.pressure);
+    f.energy[i] = q.energy;
+    for (int d = 0; d < 3; ++d) {
+      f.velocity[3 * i + static_cast<std::size_t>(d)] = p.velocity[d];
+      f.momentum[3 * i + static_cast<std::size_t>(d)] = q.momentum[d];
+    }
+  }
+  return f;
+}
+
+}  // namespace
+
+void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
+               std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir) {
+  const io::FluidSection& section = *c.fluid;
+  const io::FluidAnalysis& analysis = *section.analysis;
+  const mesh::Mesh& case_mesh = *meshes.fluid;
+
+  // The solver works on a copy renumbered for memory locality; fields are mapped back.
+  mesh::Mesh mesh = case_mesh;
+  const std::vector<Index> new_index = fluid::renumber_for_locality(mesh);
+
+  fluid::FluidOptions options;
+  options.gas = {section.gas.gamma, section.gas.gas_constant};
+  options.q_dif = analysis.q_dif;
+  options.consistent_mass_iterations = analysis.consistent_mass_iterations;
+  const double sound = std::sqrt(section.gas.gamma * section.free_stream.pressure /
+                                 section.free_stream.density);
+  const fluid::Primitive free_stream{section.free_stream.density,
+                                     section.free_stream.mach * sound * section.free_stream.direction,
+                                     section.free_stream.pressure};
+  std::vector<fluid::BoundaryCondition> conditions;
+  for (const io::FluidBoundary& b : section.boundaries)
+    conditions.emplace_back(b.group, kind_of(b), free_stream);
+  fluid::FluidModel model(std::move(mesh), options, std::move(conditions));
+  if (analysis.riemann) {
+    const auto& r = *analysis.riemann;
+    model.set_state([&](const Vec3& x) {
+      return x.dot(r.normal) < r.position ? primitive(r.left) : primitive(r.right);
+    });
+  } else {
+    model.set_state([&](const Vec3&) { return free_stream; });
+  }
+
+  io::PvdWriter pvd(outdir, "fluid");
+  std::vector<Vec3> positions(case_mesh.nodes.size());
+  auto record = [&](long step, bool write_fields) {
+    const FlowFields f = flow_fields(model, new_index);
+    std::vector<io::FieldView> fields;
+    for (const auto& v : initial_fields)
+      if (v.mesh != "fluid") fields.push_back(v);
+    fields.insert(fields.end(), {{"fluid", "density", 1, f.density},
+                                 {"fluid", "pressure", 1, f.pressure},
+                                 {"fluid", "temperature", 1, f.temperature},
+                                 {"fluid", "mach", 1, f.mach},
+                                 {"fluid", "energy", 1, f.energy},
+                                 {"fluid", "velocity", 3, f.velocity},
+                                 {"fluid", "momentum", 3, f.momentum},
+                                 {"fluid", "mesh_velocity", 3, f.mesh_velocity}});
+    probes.record(model.time(), fields);
+    if (!write_fields) return;
+    for (std::size_t i = 0; i < positions.size(); ++i)
+      positions[i] = model.positions()[static_cast<std::size_t>(new_index[i])];
+    const std::string name = fmt::format("fluid_{:06}.vtu", step);
+    io::write_mesh_vtu(outdir / name, case_mesh,
+                       {{"density", 1, f.density},
+                        {"velocity", 3, f.velocity},
+                        {"pressure", 1, f.pressure},
+                        {"mach", 1, f.mach},
+                        {"temperature", 1, f.temperature}},
+                       model.time(), positions);
+    pvd.add(model.time(), name);
+  };
+
+  record(0, true);
+  const bool steady = analysis.type == io::FluidAnalysisType::steady;
+  const double end = steady ? static_cast<double>(analysis.steps) : c.time->end;
+  Progress progress(0.0, end);
+  long step = 0;
+  try {
+    while (steady ? step < analysis.steps : model.time() < c.time->end * (1 - 1e-12)) {
+      if (steady) {
+        model.step_local(analysis.cfl);
+      } else {
+        model.step(std::min(model.stable_dt(analysis.cfl), c.time->end - model.time()));
+      }
+      ++step;
+      const bool last = steady ? step == analysis.steps : model.time() >= c.time->end * (1 - 1e-12);
+      record(step, step % c.output.every == 0 || last);
+      progress.update(steady ? static_cast<double>(step) : model.time(), step);
+    }
+  } catch (const SolverError& e) {
+    // The model keeps the last valid state: write it before reporting.
+    record(step, true);
+    throw SolverError(fmt::format("{}; the last valid state (t = {:.6g} s) is in {}", e.what(),
+                                  model.time(), outdir.string()));
+  }
+  progress.finish();
+  if (steady) {
+    spdlog::info("steady flow: {} local steps, final density rate {:.3e}", step,
+                 model.density_rate());
+  } else {
+    spdlog::info("flow: {} steps to t = {:.6g} s", step, model.time());
+  }
+}
+
+}  // namespace shellflow::app
