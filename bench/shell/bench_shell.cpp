@@ -1,6 +1,7 @@
 // Shell solver timings: one Newton iteration (assembly of F_int and K + factorisation +
 // solve) on the 244-node reference strip and on the Sze 3.1 cantilever (8x1 and 16x1
-// cubic meshes); assembly alone with 1 and 2 threads; LDLT vs LU factorisation.
+// cubic meshes); assembly alone with 1 and 2 threads; LDLT vs LU factorisation; one Newmark
+// step of the strip; the whole Sze 3.1 load path.
 #include <filesystem>
 #include <memory>
 
@@ -139,6 +140,22 @@ void BM_NewmarkStepStrip(benchmark::State& state) {
   state.counters["newton_its_per_step"] = static_cast<double>(iterations) / std::max(1, steps);
 }
 BENCHMARK(BM_NewmarkStepStrip)->Unit(benchmark::kMillisecond);
+
+/// The whole Sze 3.1 static run on the 8x1 cubic mesh (20 load steps to P_max = 4, Newton
+/// to the §8 tolerances), one thread, meshing excluded (the target: <= 0.2 s).
+void BM_Sze31FullRun(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const ShellModel& model = model_for(1);
+  int iterations = 0, runs = 0;
+  for (auto _ : state) {
+    StaticSolver solver(model);
+    for (const LoadStep& s : solver.run(20, 1.0)) iterations += s.iterations;
+    ++runs;
+    benchmark::DoNotOptimize(solver.displacement().data());
+  }
+  state.counters["newton_its"] = static_cast<double>(iterations) / std::max(1, runs);
+}
+BENCHMARK(BM_Sze31FullRun)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace shellflow::shell

@@ -212,6 +212,14 @@ double max_abs_strain(const ShellElementGeometry<Tri>& geo, const ShellQuadratur
 /// Internal force f = dU/du and, when K is not null, the consistent tangent K = d2U/du2
 /// including the a–G second-derivative term (shell.md §4). f and K are overwritten.
 /// Returns false when det A <= 0 at some point (the state is not admissible).
+///
+/// Structure used for speed: at an in-plane point every first and second derivative of A1
+/// with respect to a nodal parameter of node j is linear in the node's three shape values
+/// Phi_j = (dphi_j/dxi1, dphi_j/dxi2, phi_j), with coefficients that do not depend on j.
+/// So per volume point the whole Hessian is a 21x21 matrix Z over (parameter type t of
+/// 7) x (basis m of 3), K_jk(t, s) = Phi_j^T Z(t, s) Phi_k. Z is summed over the thickness
+/// points (Phi is the same for all of them) and expanded to node pairs once per in-plane
+/// point, in a type-major buffer that is permuted to node-major once per element.
 template <class Tri, class Vector>
 bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule,
                     const SvkMaterial& material, const Vector& u,
@@ -220,26 +228,36 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
                                   ShellElementGeometry<Tri>::num_dofs>* K) {
   constexpr int N = Tri::num_nodes;
   constexpr int nd = ShellElementGeometry<Tri>::num_dofs;
+  constexpr int nz = 3 * dofs_per_node;  // (type t, basis m) -> 3 t + m
+  using Mat21 = Eigen::Matrix<double, nz, nz>;
+  using Vec21 = Eigen::Matrix<double, nz, 1>;
   const double lambda = material.lame_lambda();
   const double mu = material.lame_mu();
-  Eigen::Matrix<double, 6, 6> C = Eigen::Matrix<double, 6, 6>::Zero();
-  C.topLeftCorner<3, 3>().setConstant(lambda);
-  C.diagonal().head<3>().array() += 2.0 * mu;
-  C.diagonal().tail<3>().setConstant(mu);
+  // Isotropic Voigt elasticity (engineering shear) as a sum of squares:
+  // C = lambda 1 1^T (normal part) + 2 mu I_normal + mu I_shear = Lc^T Lc, Lc 7x6.
+  const double s_lambda = std::sqrt(lambda), s_2mu = std::sqrt(2.0 * mu), s_mu = std::sqrt(mu);
 
-  // Cholesky factor of the Voigt elasticity matrix: B^T C B = (L^T B)^T (L^T B), so the
-  // material part is a symmetric rank-6 update of the lower triangle.
-  const Eigen::Matrix<double, 6, 6> Lt = C.llt().matrixU();
-
-  // Per volume point. Strain variations E_r (Voigt, engineering shear). For x and G dofs
-  // D_r = dA1/dy_r A0^-1 = e_i d^T (one non-zero row), so the initial-stress term
-  // (D_r S) : D_s = delta_il d_r^T S d_s works on node vectors; only `a` dofs need full D_r.
-  Eigen::Matrix<double, 6, nd> Bv;
-  Eigen::Matrix<double, 3, 2 * N> W;  // columns d_x(j), then d_G(j)
-  std::array<Mat3, N> D_a;
+  // Type-major tangent: Kt(t N + j, s N + k). Thread-local: 39 kB for Tri10.
+  thread_local Eigen::Matrix<double, nd, nd> Kt;
+  Eigen::Matrix<double, 6, nz> M;        // strain variations per (t, m), Voigt
+  Eigen::Matrix<double, 7, nz> LM;       // Lc M
+  Eigen::Matrix<double, 3, 6> Wb;        // A0^-T P e_m for x (m = 0..2) then G (m = 0..2)
+  std::array<Mat3, 3> Da;                // dA1/da per basis m, times A0^-1
+  Eigen::Matrix<double, 3, N> Phi;       // rows dphi/dxi1, dphi/dxi2, phi
+  // Expansion to node pairs, batched over the in-plane points so that it is one product
+  // with inner dimension 3 x (in-plane points) per type block row:
+  // PhiT(j, 3 q + m) = Phi_q(m, j); Ycat(t 3nq + 3 q + m, s N + k) = (Z_q(t, s) Phi_q)(m, k).
+  const int nq3 = 3 * rule.plane_size();
+  thread_local Eigen::MatrixXd PhiT, Ycat;
+  if (K) {
+    PhiT.resize(N, nq3);
+    Ycat.resize(dofs_per_node * nq3, nd);
+  }
+  Mat21 Z;
+  Vec21 fz;
 
   f.setZero();
-  if (K) K->setZero();
+  Eigen::Matrix<double, nd, 1> ft = Eigen::Matrix<double, nd, 1>::Zero();  // type-major force
   const int nt = rule.thickness_size();
   bool admissible = true;
   detail::PlanePoint<N> p;
@@ -247,6 +265,11 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
     const auto& phi = rule.phi[static_cast<std::size_t>(q)];
     const auto& dphi = rule.dphi[static_cast<std::size_t>(q)];
     p.interpolate(geo, phi, dphi, u);
+    Phi.row(0) = dphi.col(0).transpose();
+    Phi.row(1) = dphi.col(1).transpose();
+    Phi.row(2) = phi.transpose();
+    if (K) Z.setZero();
+    fz.setZero();
     for (int k = 0; k < nt; ++k) {
       const std::size_t ip = static_cast<std::size_t>(q * nt + k);
       const double xi3 = rule.thickness_points[static_cast<std::size_t>(k)];
@@ -261,82 +284,119 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
       const double zeta = xi3 + p.a * xi3_sq;
       const double zeta_d[2] = {p.a_d[0] * xi3_sq, p.a_d[1] * xi3_sq};
 
-      const auto set_strain_column = [&](int col, const Mat3& M) {  // M = A^T D_r
-        Bv(0, col) = M(0, 0);
-        Bv(1, col) = M(1, 1);
-        Bv(2, col) = M(2, 2);
-        Bv(3, col) = M(0, 1) + M(1, 0);
-        Bv(4, col) = M(1, 2) + M(2, 1);
-        Bv(5, col) = M(0, 2) + M(2, 0);
-      };
-      for (int j = 0; j < N; ++j) {
-        // dA1/dx_{j,i} = e_i c_x^T, dA1/dG_{j,i} = e_i c_G^T (rows of a 3x3, shell.md §4).
-        const Vec3 c_x(dphi(j, 0), dphi(j, 1), 0.0);
-        Vec3 c_G;
-        for (int al = 0; al < 2; ++al)
-          c_G(al) = 0.5 * (p.h_d[al] * zeta + p.h * zeta_d[al]) * phi(j) + 0.5 * p.h * zeta * dphi(j, al);
-        c_G(2) = 0.5 * p.h * (1.0 + 2.0 * p.a * xi3) * phi(j);
-        W.col(j) = A0i.transpose() * c_x;
-        W.col(N + j) = A0i.transpose() * c_G;
-        Mat3 dA1_a;
-        for (int al = 0; al < 2; ++al)
-          dA1_a.col(al) = 0.5 * xi3_sq * ((p.h_d[al] * phi(j) + p.h * dphi(j, al)) * p.g + p.h * phi(j) * p.g_d[al]);
-        dA1_a.col(2) = p.h * xi3 * phi(j) * p.g;
-        D_a[static_cast<std::size_t>(j)] = dA1_a * A0i;
-        for (int i = 0; i < 3; ++i) {
-          // A^T (e_i d^T) = (row i of A)^T d^T
-          set_strain_column(dofs_per_node * j + i, A.row(i).transpose() * W.col(j).transpose());
-          set_strain_column(dofs_per_node * j + 3 + i, A.row(i).transpose() * W.col(N + j).transpose());
-        }
-        set_strain_column(dofs_per_node * j + 6, A.transpose() * D_a[static_cast<std::size_t>(j)]);
+      // dA1/dx_{j,i} = e_i (P_x Phi_j)^T, dA1/dG_{j,i} = e_i (P_G Phi_j)^T (shell.md §4).
+      const Mat3 A0it = A0i.transpose();
+      Wb.col(0) = A0it.col(0);
+      Wb.col(1) = A0it.col(1);
+      Wb.col(2).setZero();
+      Wb.col(3) = (0.5 * p.h * zeta) * A0it.col(0);
+      Wb.col(4) = (0.5 * p.h * zeta) * A0it.col(1);
+      {
+        const Vec3 cG2(0.5 * (p.h_d[0] * zeta + p.h * zeta_d[0]), 0.5 * (p.h_d[1] * zeta + p.h * zeta_d[1]),
+                       0.5 * p.h * (1.0 + 2.0 * p.a * xi3));
+        Wb.col(5) = A0it * cG2;
       }
+      // dA1/da_j per basis: m = 0, 1 (dphi_j/dxi_m) and m = 2 (phi_j).
+      {
+        Mat3 d = Mat3::Zero();
+        d.col(0) = 0.5 * xi3_sq * p.h * p.g;
+        Da[0] = d * A0i;
+        d.col(0).setZero();
+        d.col(1) = 0.5 * xi3_sq * p.h * p.g;
+        Da[1] = d * A0i;
+        for (int al = 0; al < 2; ++al) d.col(al) = 0.5 * xi3_sq * (p.h_d[al] * p.g + p.h * p.g_d[al]);
+        d.col(2) = p.h * xi3 * p.g;
+        Da[2] = d * A0i;
+      }
+      const auto set_strain_column = [&](int col, const Mat3& Mm) {  // Mm = A^T D
+        M(0, col) = Mm(0, 0);
+        M(1, col) = Mm(1, 1);
+        M(2, col) = Mm(2, 2);
+        M(3, col) = Mm(0, 1) + Mm(1, 0);
+        M(4, col) = Mm(1, 2) + Mm(2, 1);
+        M(5, col) = Mm(0, 2) + Mm(2, 0);
+      };
+      for (int i = 0; i < 3; ++i) {
+        const Vec3 ai = A.row(i).transpose();  // A^T (e_i w^T) = a_i w^T
+        for (int m = 0; m < 3; ++m) {
+          set_strain_column(3 * i + m, ai * Wb.col(m).transpose());
+          set_strain_column(3 * (3 + i) + m, ai * Wb.col(3 + m).transpose());
+        }
+      }
+      for (int m = 0; m < 3; ++m) set_strain_column(18 + m, A.transpose() * Da[static_cast<std::size_t>(m)]);
+
       Eigen::Matrix<double, 6, 1> S_voigt;
       S_voigt << S(0, 0), S(1, 1), S(2, 2), S(0, 1), S(1, 2), S(0, 2);
-      f.noalias() += dV * (Bv.transpose() * S_voigt);
+      fz.noalias() += dV * (M.transpose() * S_voigt);
       if (!K) continue;
 
-      // Material part, lower triangle only (symmetrised at the end).
-      const Eigen::Matrix<double, 6, nd> LB = std::sqrt(dV) * (Lt * Bv);
-      K->template selfadjointView<Eigen::Lower>().rankUpdate(LB.transpose());
-      // Initial-stress part: x/G dofs through node vectors (3x3 identity blocks).
-      const Eigen::Matrix<double, 2 * N, 2 * N> P = dV * (W.transpose() * (S * W));
-      for (int j = 0; j < N; ++j)
-        for (int kk = 0; kk < N; ++kk)
-          for (int t = 0; t < 2; ++t)
-            for (int t2 = 0; t2 < 2; ++t2) {
-              const double v = P(t * N + j, t2 * N + kk);
-              for (int i = 0; i < 3; ++i) (*K)(dofs_per_node * j + 3 * t + i, dofs_per_node * kk + 3 * t2 + i) += v;
-            }
-      // Initial-stress part with `a` dofs, plus the a–G term B : d2A1/(da_j dG_{k,i}),
-      // B = A S A0^-T, where only row i of d2A1 is non-zero. Written to both triangles.
-      const Mat3 B = A * S * A0i.transpose();
-      for (int j = 0; j < N; ++j) {
-        const int ra = dofs_per_node * j + 6;
-        const Mat3 DaS = dV * (D_a[static_cast<std::size_t>(j)] * S);
-        for (int kk = 0; kk < N; ++kk) {
-          const Vec3 with_x = DaS * W.col(kk);
-          const Vec3 with_G = DaS * W.col(N + kk);
-          Vec3 c2;
-          for (int al = 0; al < 2; ++al)
-            c2(al) = 0.5 * xi3_sq * ((p.h_d[al] * phi(j) + p.h * dphi(j, al)) * phi(kk) + p.h * phi(j) * dphi(kk, al));
-          c2(2) = p.h * xi3 * phi(j) * phi(kk);
-          const Vec3 Bc = dV * (B * c2);
-          for (int i = 0; i < 3; ++i) {
-            const int sx = dofs_per_node * kk + i;
-            const int sG = sx + 3;
-            (*K)(ra, sx) += with_x(i);
-            (*K)(sx, ra) += with_x(i);
-            (*K)(ra, sG) += with_G(i) + Bc(i);
-            (*K)(sG, ra) += with_G(i) + Bc(i);
+      // Material part: Z += dV M^T C M = (Lc M)^T (Lc M) dV.
+      LM.row(0) = s_lambda * (M.row(0) + M.row(1) + M.row(2));
+      LM.template middleRows<3>(1) = s_2mu * M.template topRows<3>();
+      LM.template bottomRows<3>(3) = s_mu * M.template bottomRows<3>();
+      // (coefficient-based product: Eigen's blocked GEMM costs more in packing at this size)
+      Z.noalias() += (dV * LM.transpose()).lazyProduct(LM);
+
+      // Initial-stress part of x/G: delta_ii' w_r^T S w_s (node vectors).
+      const Eigen::Matrix<double, 6, 6> P = dV * (Wb.transpose() * (S * Wb));
+      for (int i = 0; i < 3; ++i) {
+        Z.template block<3, 3>(3 * i, 3 * i) += P.template block<3, 3>(0, 0);
+        Z.template block<3, 3>(3 * i, 3 * (3 + i)) += P.template block<3, 3>(0, 3);
+        Z.template block<3, 3>(3 * (3 + i), 3 * i) += P.template block<3, 3>(3, 0);
+        Z.template block<3, 3>(3 * (3 + i), 3 * (3 + i)) += P.template block<3, 3>(3, 3);
+      }
+      // Initial stress with `a`: (Da S) : D_s, and the a–G term B : d2A1/(da_j dG_{k,i}),
+      // B = A S A0^-T; d2A1 = e_i c2^T with c2 bilinear in Phi_j, Phi_k.
+      const Mat3 B = dV * (A * S * A0it);
+      const Vec3 Bc22 = B * Vec3(0.5 * xi3_sq * p.h_d[0], 0.5 * xi3_sq * p.h_d[1], p.h * xi3);
+      const Vec3 Bc0 = (0.5 * xi3_sq * p.h) * B.col(0);  // c2 = 0.5 xi3^2 h e_0
+      const Vec3 Bc1 = (0.5 * xi3_sq * p.h) * B.col(1);
+      for (int m = 0; m < 3; ++m) {
+        const Mat3 DaS = dV * (Da[static_cast<std::size_t>(m)] * S);
+        const Eigen::Matrix<double, 3, 6> DW = DaS * Wb;  // (Da S w)_i per (x/G, n)
+        for (int i = 0; i < 3; ++i)
+          for (int n = 0; n < 3; ++n) {
+            const double vx = DW(i, n);
+            double vG = DW(i, 3 + n);
+            // c2 terms: (m = 2, n = 2), (m = al, n = 2) and (m = 2, n = al).
+            if (m == 2 && n == 2) vG += Bc22(i);
+            if (n == 2 && m < 2) vG += (m == 0 ? Bc0 : Bc1)(i);
+            if (m == 2 && n < 2) vG += (n == 0 ? Bc0 : Bc1)(i);
+            Z(18 + m, 3 * i + n) += vx;
+            Z(3 * i + n, 18 + m) += vx;
+            Z(18 + m, 3 * (3 + i) + n) += vG;
+            Z(3 * (3 + i) + n, 18 + m) += vG;
           }
-          (*K)(ra, dofs_per_node * kk + 6) += (DaS.array() * D_a[static_cast<std::size_t>(kk)].array()).sum();
-        }
+        for (int n = 0; n < 3; ++n)
+          Z(18 + m, 18 + n) += (DaS.array() * Da[static_cast<std::size_t>(n)].array()).sum();
       }
     }
+    // Expand to node pairs: f_j(t) = Phi_j^T fz(t); K_jk(t, s) = Phi_j^T Z(t, s) Phi_k.
+    for (int t = 0; t < dofs_per_node; ++t)
+      ft.template segment<N>(t * N).noalias() += Phi.transpose() * fz.template segment<3>(3 * t);
+    if (!K) continue;
+    PhiT.template middleCols<3>(3 * q) = Phi.transpose();
+    // Lower block triangle only (s <= t); mirrored below.
+    for (int t = 0; t < dofs_per_node; ++t)
+      for (int s = 0; s <= t; ++s)
+        Ycat.template block<3, N>(t * nq3 + 3 * q, s * N).noalias() = Z.template block<3, 3>(3 * t, 3 * s) * Phi;
   }
   if (K)
-    for (int c = 1; c < nd; ++c)
-      for (int r = 0; r < c; ++r) (*K)(r, c) = (*K)(c, r);
+    for (int t = 0; t < dofs_per_node; ++t)
+      Kt.block(t * N, 0, N, (t + 1) * N).noalias() = PhiT * Ycat.block(t * nq3, 0, nq3, (t + 1) * N);
+  for (int j = 0; j < N; ++j)
+    for (int t = 0; t < dofs_per_node; ++t) f(dofs_per_node * j + t) = ft(t * N + j);
+  if (K) {
+    for (int s = 0; s < dofs_per_node; ++s)
+      for (int k = 0; k < N; ++k) {
+        const int col = dofs_per_node * k + s;
+        for (int t = 0; t < dofs_per_node; ++t)
+          for (int j = 0; j < N; ++j) {
+            // Kt is filled for t >= s (type blocks), i.e. the block lower triangle.
+            (*K)(dofs_per_node * j + t, col) = t >= s ? Kt(t * N + j, s * N + k) : Kt(s * N + k, t * N + j);
+          }
+      }
+  }
   return admissible;
 }
 
