@@ -454,6 +454,8 @@ TEST(ReadCase, MotionAndTimeSectionsParseWithDefaults) {
 }
 
 TEST(ReadCaseErrors, MotionSection) {
+  EXPECT_EQ(text_error(kMotionHead + "motion: { interface_groups: [panel] }\n"),
+            at("inline.yaml", 3, "motion: a mesh-motion run needs a 'time' section (end, step)"));
   EXPECT_EQ(text_error(kMotionHead + "motion: { interface_groups: [] }\n"),
             at("inline.yaml", 3,
                "motion.interface_groups: expected a list of the moving boundary's physical groups"));
@@ -476,8 +478,9 @@ TEST(ReadCaseErrors, MotionSection) {
 }
 
 TEST(CheckPhysicalGroups, MotionGroupsAreCheckedOnTheSpaceMeshToo) {
-  const Case c = read_case_string(kMotionHead + "motion:\n  interface_groups: [panel]\n",
-                                  data("inline.yaml"));
+  const Case c = read_case_string(
+      kMotionHead + "motion:\n  interface_groups: [panel]\ntime: { end: 1, step: 0.1 }\n",
+      data("inline.yaml"));
   try {
     check_physical_groups(c, [](std::string_view mesh) {
       return mesh == "fluid" ? std::vector<std::string>{"panel"} : std::vector<std::string>{"wall"};
