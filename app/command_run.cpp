@@ -1,9 +1,9 @@
 // `shellflow run`: run a case.
 //
 // A run meshes the case, sets up its initial state (the shell at rest, the fluid at the free
-// stream) and writes it (<mesh>_000000.vtu + <mesh>.pvd). A case with a `motion` section then
-// moves the fluid mesh with its prescribed boundary motion (motion_run.h). The shell, fluid
-// and coupled solvers are being built; until they land other cases stop after t = 0.
+// stream) and writes it (<mesh>_000000.vtu + <mesh>.pvd). Then, by the case's sections: a
+// prescribed mesh motion (motion_run.h), a shell analysis (shell_run.h) or a flow analysis
+// (fluid_run.h) — one of them; the coupled fluid-structure run is not available yet.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -105,8 +105,9 @@ int run_command(const CommonOptions& options) {
     run_fluid(c, meshes, probes, state.views, outdir);
   } else {
     probes.record(time, state.views);
-    spdlog::warn("the shell and fluid solvers are not available yet in this version: wrote the "
-                 "initial state (t = 0) only");
+    spdlog::warn("nothing to integrate: the case has no 'motion', 'shell.analysis' or "
+                 "'fluid.analysis' (the coupled panel-flutter run is not available yet); wrote "
+                 "the initial state (t = 0) only");
   }
   spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
   if (options.plot) {
