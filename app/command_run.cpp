@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "commands.h"
+#include "fluid_fields.h"
 #include "motion_run.h"
 #include "shell_run.h"
 #include "fluid_run.h"
@@ -25,8 +26,8 @@ namespace {
 /// Nodal fields of the initial state, by mesh.
 struct InitialState {
   std::vector<double> shell_zero, shell_position;
-  std::vector<double> fluid_density, fluid_pressure, fluid_temperature, fluid_mach, fluid_energy,
-      fluid_velocity, fluid_momentum, fluid_zero3, space_zero;
+  FluidFields fluid;
+  std::vector<double> space_zero;
   std::vector<io::FieldView> views;
 };
 
@@ -49,25 +50,19 @@ InitialState initial_state(const io::Case& c, const io::CaseMeshes& meshes) {
     const double sound = std::sqrt(gas.gamma * fs.pressure / fs.density);
     const Vec3 u = fs.mach * sound * fs.direction;
     const Index n = m->num_nodes();
-    fill(s.fluid_density, n, 1, fs.density);
-    fill(s.fluid_pressure, n, 1, fs.pressure);
-    fill(s.fluid_temperature, n, 1, fs.pressure / (fs.density * gas.gas_constant));
-    fill(s.fluid_mach, n, 1, fs.mach);
-    fill(s.fluid_energy, n, 1, fs.pressure / (gas.gamma - 1.0) + 0.5 * fs.density * u.squaredNorm());
-    fill(s.fluid_zero3, n, 3, 0.0);
+    fill(s.fluid.density, n, 1, fs.density);
+    fill(s.fluid.pressure, n, 1, fs.pressure);
+    fill(s.fluid.temperature, n, 1, fs.pressure / (fs.density * gas.gas_constant));
+    fill(s.fluid.mach, n, 1, fs.mach);
+    fill(s.fluid.energy, n, 1, fs.pressure / (gas.gamma - 1.0) + 0.5 * fs.density * u.squaredNorm());
+    fill(s.fluid.mesh_velocity, n, 3, 0.0);
     for (Index i = 0; i < n; ++i) {
-      s.fluid_velocity.insert(s.fluid_velocity.end(), u.data(), u.data() + 3);
+      s.fluid.velocity.insert(s.fluid.velocity.end(), u.data(), u.data() + 3);
       const Vec3 mom = fs.density * u;
-      s.fluid_momentum.insert(s.fluid_momentum.end(), mom.data(), mom.data() + 3);
+      s.fluid.momentum.insert(s.fluid.momentum.end(), mom.data(), mom.data() + 3);
     }
-    s.views.insert(s.views.end(), {{"fluid", "density", 1, s.fluid_density},
-                                   {"fluid", "pressure", 1, s.fluid_pressure},
-                                   {"fluid", "temperature", 1, s.fluid_temperature},
-                                   {"fluid", "mach", 1, s.fluid_mach},
-                                   {"fluid", "energy", 1, s.fluid_energy},
-                                   {"fluid", "velocity", 3, s.fluid_velocity},
-                                   {"fluid", "momentum", 3, s.fluid_momentum},
-                                   {"fluid", "mesh_velocity", 3, s.fluid_zero3}});
+    const auto views = s.fluid.views();
+    s.views.insert(s.views.end(), views.begin(), views.end());
   }
   if (const auto* m = meshes.find("space")) {
     fill(s.space_zero, m->num_nodes(), 3, 0.0);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "fluid_fields.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/progress.h"
 #include "shellflow/fluid/fluid_model.h"
@@ -32,14 +33,10 @@ fluid::BoundaryKind kind_of(const io::FluidBoundary& b) {
 fluid::Primitive primitive(const io::GasState& g) { return {g.density, g.velocity, g.pressure}; }
 
 /// Nodal fields of the flow, in the case mesh's node order.
-struct FlowFields {
-  std::vector<double> density, pressure, temperature, mach, energy, velocity, momentum, mesh_velocity;
-};
-
-FlowFields flow_fields(const fluid::FluidModel& model, const std::vector<Index>& new_index) {
+FluidFields flow_fields(const fluid::FluidModel& model, const std::vector<Index>& new_index) {
   const auto& gas = model.options().gas;
   const std::size_t n = new_index.size();
-  FlowFields f;
+  FluidFields f;
   f.density.resize(n);
   f.pressure.resize(n);
   f.temperature.resize(n);
@@ -102,18 +99,12 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   io::PvdWriter pvd(outdir, "fluid");
   std::vector<Vec3> positions(case_mesh.nodes.size());
   auto record = [&](long step, bool write_fields) {
-    const FlowFields f = flow_fields(model, new_index);
+    const FluidFields f = flow_fields(model, new_index);
     std::vector<io::FieldView> fields;
     for (const auto& v : initial_fields)
       if (v.mesh != "fluid") fields.push_back(v);
-    fields.insert(fields.end(), {{"fluid", "density", 1, f.density},
-                                 {"fluid", "pressure", 1, f.pressure},
-                                 {"fluid", "temperature", 1, f.temperature},
-                                 {"fluid", "mach", 1, f.mach},
-                                 {"fluid", "energy", 1, f.energy},
-                                 {"fluid", "velocity", 3, f.velocity},
-                                 {"fluid", "momentum", 3, f.momentum},
-                                 {"fluid", "mesh_velocity", 3, f.mesh_velocity}});
+    const auto views = f.views();
+    fields.insert(fields.end(), views.begin(), views.end());
     probes.record(model.time(), fields);
     if (!write_fields) return;
     for (std::size_t i = 0; i < positions.size(); ++i)
