@@ -136,19 +136,69 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
     shell::StaticSolver solver(model);
     record(0, 0.0, solver.displacement(), nullptr, true);
     long step = 0;
-    solver.run(analysis.steps, 1.0, [&](const shell::LoadStep& level) {
+    auto on_level = [&](const shell::LoadStep& level, bool last) {
       ++step;
-      spdlog::info("load factor {:.4f}: converged in {} Newton iterations", level.load_factor,
+      spdlog::info("load factor {:.6g}: converged in {} Newton iterations", level.load_factor,
                    level.iterations);
       record(step, level.load_factor, solver.displacement(), nullptr,
-             step % c.output.every == 0 || level.load_factor >= 1.0 - 1e-12);
-    });
+             step % c.output.every == 0 || last);
+    };
+    try {
+      switch (analysis.control) {
+        case io::PathControl::load:
+          solver.run(analysis.steps, 1.0, [&](const shell::LoadStep& level) {
+            on_level(level, level.load_factor >= 1.0 - 1e-12);
+          });
+          break;
+        case io::PathControl::displacement: {
+          shell::ControlledDisplacement control;
+          control.node = analysis.controlled_node;
+          control.group = analysis.controlled_group;
+          control.component = analysis.controlled_component;
+          if (control.node >= n) {
+            throw_at(analysis.where, fmt::format("controlled node {} does not exist: the shell "
+                                                 "mesh has nodes 0 to {}",
+                                                 control.node, n - 1));
+          }
+          long level_count = 0;
+          solver.run_displacement_control(control, analysis.steps, analysis.final_displacement,
+                                          [&](const shell::LoadStep& level) {
+                                            on_level(level, ++level_count == analysis.steps);
+                                          });
+          break;
+        }
+        case io::PathControl::arc_length: {
+          shell::ArcLengthOptions options;
+          options.initial_load_increment = analysis.initial_load_increment;
+          long level_count = 0;
+          const auto levels = solver.run_arc_length(
+              analysis.steps, options, [&](const shell::LoadStep& level) {
+                const bool done = level.load_factor >= analysis.final_load_factor;
+                on_level(level, done || ++level_count == analysis.steps);
+                return !done;
+              });
+          if (levels.empty() || levels.back().load_factor < analysis.final_load_factor) {
+            spdlog::warn("arc length: load factor {:.6g} after {} steps, short of the final "
+                         "load factor {}; raise analysis.steps",
+                         levels.empty() ? 0.0 : levels.back().load_factor, levels.size(),
+                         analysis.final_load_factor);
+          }
+          break;
+        }
+      }
+    } catch (const SolverError& e) {
+      record(step + 1, solver.load_factor(), solver.displacement(), nullptr, true);
+      throw SolverError(fmt::format("{}; the last converged state (load factor {:.6g}) is in {}",
+                                    e.what(), solver.load_factor(), outdir.string()));
+    }
     return;
   }
 
   const TimeFunction load_function = analysis.load_function;
   shell::NewmarkOptions options;
   options.mass_damping = analysis.mass_damping;
+  options.scheme = analysis.scheme == io::TimeScheme::midpoint ? shell::TimeScheme::midpoint
+                                                               : shell::TimeScheme::newmark;
   shell::NewmarkSolver solver(model, options, [&](double t) { return load_function.value(t); });
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
   solver.set_initial_state(zero, zero);
@@ -157,7 +207,14 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
   Progress progress(0.0, c.time->end);
   for (long step = 1; step <= steps; ++step) {
-    solver.advance(dt);
+    try {
+      solver.advance(dt);
+    } catch (const SolverError& e) {
+      // The solver keeps the last converged state: write it before reporting.
+      record(step, solver.time(), solver.displacement(), &solver.velocity(), true);
+      throw SolverError(fmt::format("{}; the last converged state (t = {:.6g} s) is in {}",
+                                    e.what(), solver.time(), outdir.string()));
+    }
     record(step, solver.time(), solver.displacement(), &solver.velocity(),
            step % c.output.every == 0 || step == steps);
     progress.update(solver.time(), step);

@@ -27,25 +27,28 @@ namespace {
 
 // Compulsory memory traffic of one step, in bytes per tetrahedron, assuming every array is
 // streamed once per pass and gathers of node data hit cache (a lower bound). Passes:
-// artificial viscosity (nodal p; gradient projection; Laplacian and nu_e; smoothing),
-// stable time step, residual element pass, update, positivity check.
+// artificial viscosity (nodal p and |u| + c; gradient projection; Laplacian, nu_e and its
+// nodal smoothing in one pass; element mean), stable time step, residual element pass,
+// outflow faces (neglected), update, boundary conditions (surface, neglected), positivity
+// check, density-rate monitor.
 double compulsory_bytes_per_tet(double nodes_per_tet) {
   const double conn = 16, grad = 96, scalar = 8;
-  const double per_element = (conn + grad + scalar)     // gradient projection (B, V)
-                             + (conn + grad + 2 * scalar)  // Laplacian: B, h, write nu_e
-                             + (conn + 2 * scalar)         // smoothing: V, nu_e
+  const double per_element = (conn + grad + scalar)      // gradient projection: B, V
+                             + (conn + grad + 2 * scalar)  // Laplacian + smoothing: B, h, V
                              + (conn + scalar)             // element mean: write nu
                              + (conn + 2 * scalar)         // time step: h, nu
                              + (conn + grad + 2 * scalar);  // residual: B, V, nu
-  const double per_node = (40 + 8)           // state -> p
-                          + 3 * (2 * 24 + 8)  // gradient: zero, scatter, divide by M
-                          + 3 * 8 + 8 + 8     // nodal nu: zero, scatter, divide
-                          + (40 + 8 + 24)     // gathers of the Laplacian pass (state, p, grad)
-                          + (40 + 24)         // time step gathers (state, w)
-                          + 2 * 24            // w of the step
-                          + 40 + (40 + 24 + 2 * 40)  // zero r; residual gathers + r read/write
+  const double per_node = (40 + 16)            // state -> p, |u| + c
+                          + (24 + 48 + 8 + 48)  // gradient: zero, scatter, read M, scale
+                          + (24 + 8 + 8)        // Laplacian gathers: grad p, |u| + c, p
+                          + (8 + 16 + 8 + 16)   // nodal nu: zero, scatter, read M, divide
+                          + 8                   // element mean: gather nu_a
+                          + (40 + 24 + 32 + 32)  // time step: state, w -> nodal speeds, gather
+                          + 2 * 24              // w of the step: write, test
+                          + 40 + (40 + 80)      // zero r; residual gathers U, scatter r
                           + (40 + 40 + 8 + 40)  // update: U, r, M -> U*
-                          + 40;               // positivity check
+                          + 40                  // positivity check
+                          + 2 * 8;              // density rate: rho^n, rho^{n+1}
   return per_element + nodes_per_tet * per_node;
 }
 

@@ -1,6 +1,7 @@
 // Shell solver timings: one Newton iteration (assembly of F_int and K + factorisation +
 // solve) on the 244-node reference strip and on the Sze 3.1 cantilever (8x1 and 16x1
-// cubic meshes); assembly alone with 1 and 2 threads; LDLT vs LU factorisation; one Newmark
+// cubic meshes) and on a 10 000-node Scordelis-Lo panel (panel_33x33.geo); assembly alone
+// with 1 and 2 threads (wall time for the panel); LDLT vs LU factorisation; one Newmark
 // step of the strip; the whole Sze 3.1 load path.
 #include <filesystem>
 #include <memory>
@@ -20,6 +21,22 @@ std::unique_ptr<ShellModel> make_model(const std::string& case_file) {
   mesh::MeshingOptions meshing;
   meshing.order = 3;
   ShellSection section;
+  if (case_file.starts_with("panel")) {  // Scordelis-Lo data, self weight as gravity
+    ShellSection section;
+    section.thickness = 0.25;
+    section.material = SvkMaterial{4.32e8, 0.0, 1.0};
+    auto model = std::make_unique<ShellModel>(
+        mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "bench/shell" / case_file, meshing, "shell"),
+        section);
+    model->add_support(Support::symmetry_plane("sym_x", 0));
+    model->add_support(Support::symmetry_plane("sym_y", 1));
+    Support diaphragm;  // rigid in its plane: y and z fixed
+    diaphragm.group = "diaphragm";
+    diaphragm.fix_position = {false, true, true};
+    model->add_support(diaphragm);
+    model->add_gravity(Vec3(0.0, 0.0, -360.0));
+    return model;
+  }
   const bool strip = case_file.starts_with("strip");
   section.thickness = strip ? 1.35e-3 : 0.1;
   section.material = strip ? SvkMaterial{77.28e9, 0.33, 2710.0} : SvkMaterial{1.2e6, 0.0, 0.0};
@@ -42,9 +59,15 @@ const ShellModel& model_for(int which) {
   static const auto strip = make_model("strip_20x1.geo");
   static const auto sze8 = make_model("sze31_cantilever_8x1.geo");
   static const auto sze16 = make_model("sze31_cantilever_16x1.geo");
+  if (which == 3) {  // meshed on first use only (10 000 nodes)
+    static const auto panel = make_model("panel_33x33.geo");
+    return *panel;
+  }
   return which == 0 ? *strip : which == 1 ? *sze8 : *sze16;
 }
-const char* name_of(int which) { return which == 0 ? "strip244" : which == 1 ? "sze31_8x1" : "sze31_16x1"; }
+const char* name_of(int which) {
+  return which == 0 ? "strip244" : which == 1 ? "sze31_8x1" : which == 2 ? "sze31_16x1" : "panel10000";
+}
 
 /// A deformed state: the first Newton correction at full load (non-trivial stresses).
 Eigen::VectorXd deformed_state(const ShellModel& model) {
@@ -75,6 +98,8 @@ void BM_NewtonIteration(benchmark::State& state) {
   state.counters["dofs"] = model.num_dofs();
 }
 BENCHMARK(BM_NewtonIteration)->ArgsProduct({{0, 1, 2}, {1, 2}})->Unit(benchmark::kMillisecond);
+// The ~10 000-node panel (70 000 dofs): one iteration takes about a minute (factorisation).
+BENCHMARK(BM_NewtonIteration)->Args({3, 1})->Iterations(1)->Unit(benchmark::kMillisecond);
 
 void BM_Assembly(benchmark::State& state) {
   omp_set_num_threads(static_cast<int>(state.range(1)));
@@ -91,11 +116,29 @@ void BM_Assembly(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(model.mesh().num_cells()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_Assembly)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Assembly)->ArgsProduct({{3}, {1, 2}})->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-/// Factorisation + solve alone: Eigen SimplicialLDLT (used) against SparseLU.
+/// Factorisation + solve alone on the strip: Eigen SimplicialLDLT with AMD on the full
+/// matrix (the previous NewtonLinearSolver), SparseLU, and NewtonLinearSolver (reduced
+/// system, node-graph AMD, value map; includes eliminating the supports and the copies).
 void BM_Factorisation(benchmark::State& state) {
   const ShellModel& model = model_for(0);
   const bool lu = state.range(0) == 1;
+  if (state.range(0) == 2) {
+    state.SetLabel("NewtonLinearSolver strip244");
+    const Eigen::VectorXd u = deformed_state(model);
+    SparseMatrix K = model.make_matrix();
+    Eigen::VectorXd f;
+    model.assemble(u, f, &K);
+    const Eigen::VectorXd rhs = model.reference_load() - f;
+    NewtonLinearSolver solver;
+    for (auto _ : state) {
+      Eigen::VectorXd x = rhs;
+      solver.solve(K, model.constrained(), x);
+      benchmark::DoNotOptimize(x.data());
+    }
+    return;
+  }
   state.SetLabel(lu ? "SparseLU strip244" : "SimplicialLDLT strip244");
   const Eigen::VectorXd u = deformed_state(model);
   SparseMatrix K = model.make_matrix();
@@ -120,7 +163,7 @@ void BM_Factorisation(benchmark::State& state) {
     benchmark::DoNotOptimize(x.data());
   }
 }
-BENCHMARK(BM_Factorisation)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Factorisation)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 /// One Newmark step of the reference strip (Newton to the §8 tolerances), free vibration
 /// from a uniform initial transverse velocity, Δt = 1e-4 s (~T1/320).

@@ -6,6 +6,7 @@ temporary directory, with their mesh paths made absolute.
 """
 import csv
 import json
+import math
 import os
 import re
 import subprocess
@@ -169,6 +170,26 @@ class ShellRuns(unittest.TestCase):
             self.assertTrue(os.path.exists(os.path.join(tmp, "shell.pvd")))
 
 
+    def test_hinged_roof_snaps_through_with_arc_length(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            case = os.path.join(ROOT, "cases", "shell", "hinged_roof_snap.yaml")
+            r = shellflow("run", case, "-o", tmp, "--no-plot")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
+                rows = [(float(a), float(b)) for a, b in list(csv.reader(f))[1:]]
+            load = [lam for lam, _ in rows]
+            peak = max(range(len(load)), key=lambda i: load[i] if i < len(load) // 2 else -1)
+            valley = min(load[peak:])
+            # Limit load P = 1000 lambda = 2216.6 on this mesh (the path samples it from below);
+            # the load drops to lambda = 0.509 during the snap and rises past 2.5 again.
+            self.assertGreater(load[peak], 2.18)
+            self.assertLess(load[peak], 2.2167)
+            self.assertLess(abs(valley - 0.509), 0.02)
+            self.assertGreaterEqual(load[-1], 2.5)
+            deflection = [-w for _, w in rows]
+            self.assertTrue(all(b > a for a, b in zip(deflection, deflection[1:])))
+
+
 class FlowRuns(unittest.TestCase):
     """Flow cases run from their case files (cases/fluid)."""
 
@@ -190,6 +211,82 @@ class FlowRuns(unittest.TestCase):
             m = meshio.read(os.path.join(tmp, "fluid_000000.vtu"))
             for name in ("density", "velocity", "pressure", "mach", "temperature"):
                 self.assertIn(name, m.point_data)
+
+
+    def test_lax_plateau_between_contact_and_shock(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            r = shellflow("run", os.path.join(ROOT, "cases", "fluid", "lax.yaml"), "-o", tmp,
+                          "--no-plot")
+            self.assertEqual(r.returncode, 0, r.stderr)
+            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
+                rows = list(csv.reader(f))
+            t, rho, p = (float(v) for v in rows[-1])
+            self.assertAlmostEqual(t, 0.14, places=12)
+            # x = 0.8 lies between the contact (0.714) and the shock (0.847).
+            self.assertLess(abs(p - 2.4660979192) / 2.4660979192, 0.01)
+            self.assertLess(abs(rho - 1.3040845320) / 1.3040845320, 0.02)
+
+
+class MovingMeshFlowRuns(unittest.TestCase):
+    """Flow on meshes moved by a prescribed `fluid.mesh_motion` (cases/fluid)."""
+
+    def run_case(self, name):
+        tmp = tempfile.TemporaryDirectory()
+        self.addCleanup(tmp.cleanup)
+        r = shellflow("run", os.path.join(ROOT, "cases", "fluid", name + ".yaml"), "-o", tmp.name,
+                      "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(tmp.name, "probes.csv"), newline="") as f:
+            rows = list(csv.reader(f))
+        header = rows[0]
+        return tmp.name, {k: [float(row[i]) for row in rows[1:]] for i, k in enumerate(header)}
+
+    def test_free_stream_stays_exact_on_a_deforming_mesh(self):
+        _, probes = self.run_case("freestream_deforming")
+        self.assertGreater(len(probes["time"]), 100)
+        for lo, hi in (("rho_min", "rho_max"), ("p_min", "p_max")):
+            for a, b in zip(probes[lo], probes[hi]):
+                self.assertLessEqual(b - a, 1e-12 * abs(b), (lo, hi))
+        self.assertAlmostEqual(probes["rho_max"][-1], 1.0, delta=1e-12)
+
+    def test_piston_face_pressure_matches_the_exact_shock(self):
+        _, probes = self.run_case("piston")
+        t, p = probes["time"], probes["p_piston"]
+        integral = duration = 0.0
+        for i in range(1, len(t)):
+            if t[i] > 0.3:
+                integral += (t[i] - t[i - 1]) * p[i]
+                duration += t[i] - t[i - 1]
+        self.assertLess(abs(integral / duration / 1.14865177 - 1.0), 0.005)
+
+    def test_stationary_contact_stays_on_an_oscillating_mesh(self):
+        out, probes = self.run_case("contact_oscillating")
+        self.assertAlmostEqual(probes["time"][-1], 1.0, places=12)
+        # u = 0 and p = 1 exactly in the exact solution; the discrete errors are O(h^2).
+        self.assertLess(max(probes["u_max"]), 0.01)
+        self.assertLess(max(abs(v - 1.0) for v in probes["p_min"] + probes["p_max"]), 0.01)
+        # The nodes are back at X at t = 1; the profile stays where it was.
+        rho0 = 1 + 0.5 * math.exp(-((0.6 - 0.5) / 0.1) ** 2)
+        self.assertLess(abs(probes["rho_x0.6"][-1] - rho0) / 0.5, 0.02)
+        self.assertTrue(os.path.exists(os.path.join(out, "fluid.pvd")))
+
+    def test_entropy_wave_is_advected_through_the_moving_mesh(self):
+        _, probes = self.run_case("entropy_wave")
+        # A point probe follows the mesh point it was located at: here x(t) = 0.5 + 0.05
+        # sin(2 pi t / 0.5). Exact rho = 1 + 0.2 sin(2 pi (x - 2 t)); the inflow has swept the
+        # tube once the wave has travelled 0.6.
+        worst = 0.0
+        for t, rho in zip(probes["time"], probes["rho_x0.5"]):
+            if t > 0.3:
+                x = 0.5 + 0.05 * math.sin(2 * math.pi * t / 0.5)
+                worst = max(worst, abs(rho - 1 - 0.2 * math.sin(2 * math.pi * (x - 2 * t))))
+        self.assertLess(worst / 0.2, 0.01)
+
+    def test_sod_on_a_deforming_mesh_keeps_the_plateau(self):
+        _, probes = self.run_case("sod_moving_mesh")
+        self.assertAlmostEqual(probes["time"][-1], 0.2, places=12)
+        self.assertLess(abs(probes["p_x0.6"][-1] - 0.3031301781) / 0.3031301781, 0.01)
+        self.assertLess(abs(probes["rho_x0.6"][-1] - 0.4263194282) / 0.4263194282, 0.02)
 
 
 class MotionRuns(unittest.TestCase):

@@ -596,5 +596,172 @@ TEST(ReadCaseErrors, FluidAnalysis) {
             at("inline.yaml", 5, "fluid.analysis.cfl: must be in (0, 0.6], got 0.9"));
 }
 
+TEST(ReadCase, TimeFunctionsStepAndExpression) {
+  const auto load_function = [](const std::string& f) {
+    const Case c = read_case_string(
+        "name: t\n"
+        "meshes: { shell: { geo: panel_strip.geo } }\n"
+        "shell:\n"
+        "  thickness: 0.1\n"
+        "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n"
+        "  analysis: { type: dynamic, load_function: " + f + " }\n"
+        "time: { end: 1, step: 0.1 }\n",
+        data("inline.yaml"));
+    return c.shell->analysis->load_function;
+  };
+  const TimeFunction step = load_function("{ type: step, value: 2, time: 0.5 }");
+  EXPECT_EQ(step.value(0.4), 0.0);
+  EXPECT_EQ(step.value(0.5), 2.0);
+  const TimeFunction smooth = load_function("{ type: smooth_step, value: 2, time: 0, duration: 1 }");
+  EXPECT_DOUBLE_EQ(smooth.value(0.5), 1.0);
+  EXPECT_DOUBLE_EQ(smooth.derivative(0.5), 3.0);  // 6 V s (1 - s) / T
+  const TimeFunction e = load_function("{ type: expression, value: \"0.1*sin(2*pi*20*t)\" }");
+  EXPECT_DOUBLE_EQ(e.value(0.0125), 0.1);
+  EXPECT_NEAR(e.derivative(0.0), 0.1 * 2 * 3.141592653589793 * 20, 1e-12);
+}
+
+TEST(ReadCaseErrors, ExpressionSyntaxNamesLineAndColumn) {
+  EXPECT_EQ(text_error("name: t\n"
+                       "meshes: { shell: { geo: panel_strip.geo } }\n"
+                       "shell:\n"
+                       "  thickness: 0.1\n"
+                       "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n"
+                       "  analysis: { type: dynamic, load_function: { type: expression, value: "
+                       "\"sin(2*pi*t\" } }\n"
+                       "time: { end: 1, step: 0.1 }\n"),
+            at("inline.yaml", 6, "shell.analysis.load_function.value: expression \"sin(2*pi*t\": "
+                                 "column 11: expected ')'"));
+}
+
+TEST(ReadCase, FluidExpressionsMeshMotionAndBoundaryState) {
+  const Case c = read_case_string(
+      kFluidCase +
+          "  boundaries:\n"
+          "    - group: inflow\n"
+          "      type: supersonic_inflow\n"
+          "      state: { density: \"1 + 0.2*sin(2*pi*(x - 2*t))\", velocity: [2, 0, 0], pressure: 1 }\n"
+          "  mesh_motion: { displacement: [\"0.05*sin(pi*x)*sin(2*pi*t/0.5)\", 0, \"z*t\"] }\n"
+          "  analysis:\n"
+          "    type: transient\n"
+          "    initial: { density: \"1 + x*y\", velocity: [1, \"y\", 0], pressure: 2 }\n"
+          "time: { end: 1 }\n",
+      data("inline.yaml"));
+  ASSERT_TRUE(c.fluid && c.fluid->mesh_motion && c.fluid->analysis && c.fluid->analysis->initial);
+  const auto& state = *c.fluid->boundaries[0].state;
+  EXPECT_DOUBLE_EQ(state.density(Vec3(0.25, 0, 0), 0.0), 1.2);
+  EXPECT_DOUBLE_EQ(state.velocity[0](Vec3::Zero(), 0.0), 2.0);
+  const auto& d = c.fluid->mesh_motion->displacement;
+  EXPECT_DOUBLE_EQ(d[0](Vec3(0.5, 0, 0), 0.125), 0.05);
+  EXPECT_DOUBLE_EQ(d[2](Vec3(0, 0, 3), 2.0), 6.0);
+  EXPECT_DOUBLE_EQ(d[2].time_derivative(Vec3(0, 0, 3), 2.0), 3.0);
+  const auto& initial = *c.fluid->analysis->initial;
+  EXPECT_DOUBLE_EQ(initial.density(Vec3(2, 3, 0), 0.0), 7.0);
+  EXPECT_DOUBLE_EQ(initial.velocity[1](Vec3(2, 3, 0), 0.0), 3.0);
+}
+
+TEST(ReadCaseErrors, FluidExpressionsMeshMotionAndBoundaryState) {
+  EXPECT_EQ(text_error(kFluidCase + "  mesh_motion: { displacement: [\"sin(q*t)\", 0, 0] }\n"),
+            at("inline.yaml", 5, "fluid.mesh_motion.displacement[0]: expression \"sin(q*t)\": "
+                                 "column 5: unknown name 'q'; expected x, y, z, t, pi, e or a "
+                                 "function sin cos tan exp log sqrt abs tanh step min max pow "
+                                 "atan2"));
+  EXPECT_EQ(text_error(kFluidCase + "  mesh_motion: { displacement: [0, 0] }\n"),
+            at("inline.yaml", 5, "fluid.mesh_motion.displacement: expected 3 components, got 2"));
+  EXPECT_EQ(text_error(kFluidCase + "  boundaries:\n"
+                                    "    - { group: inflow, type: slip_wall, state: { density: 1, "
+                                    "pressure: 1 } }\n"),
+            at("inline.yaml", 6, "fluid.boundaries[0].state: a 'slip_wall' boundary takes no "
+                                 "state; only supersonic_inflow and far_field do"));
+  EXPECT_EQ(text_error(kFluidCase + "  mesh_motion: { displacement: [t, 0, 0] }\n"
+                                    "  analysis: { type: steady }\n"),
+            at("inline.yaml", 5, "fluid.mesh_motion: a steady (local time stepping) analysis "
+                                 "needs a fixed mesh; use type: transient or remove 'mesh_motion'"));
+  EXPECT_EQ(text_error(kFluidCase + "  analysis:\n"
+                                    "    type: transient\n"
+                                    "    riemann: { position: 0.5, left: { density: 1, pressure: 1 },\n"
+                                    "               right: { density: 1, pressure: 1 } }\n"
+                                    "    initial: { density: 1, pressure: 1 }\n"
+                                    "time: { end: 1 }\n"),
+            at("inline.yaml", 9, "fluid.analysis.initial: give either 'riemann' or 'initial', "
+                                 "not both"));
+}
+
+TEST(ReadCase, FluidViscosityAndNoSlipWalls) {
+  const Case c = read_case_string(
+      "name: t\n"
+      "meshes: { fluid: { geo: fluid_slab.geo } }\n"
+      "fluid:\n"
+      "  gas: { viscosity: { law: sutherland, mu_ref: 2e-5, t_ref: 300, sutherland: 100 } }\n"
+      "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
+      "  boundaries:\n"
+      "    - { group: inflow, type: no_slip_wall, velocity: [1, 0, 0], temperature: 300 }\n"
+      "    - { group: outflow, type: no_slip_wall }\n",
+      data("inline.yaml"));
+  const Viscosity& mu = c.fluid->gas.viscosity;
+  EXPECT_EQ(mu.law, ViscosityLaw::sutherland);
+  EXPECT_EQ(mu.mu_ref, 2e-5);
+  EXPECT_EQ(mu.t_ref, 300.0);
+  EXPECT_EQ(mu.sutherland, 100.0);
+  EXPECT_EQ(mu.prandtl, 0.72);
+  EXPECT_EQ(c.fluid->boundaries[0].wall_velocity, Vec3::UnitX());
+  EXPECT_EQ(c.fluid->boundaries[0].wall_temperature, 300.0);
+  EXPECT_FALSE(c.fluid->boundaries[1].wall_temperature.has_value());
+}
+
+TEST(ReadCaseErrors, FluidViscosityAndNoSlipWalls) {
+  const std::string head =
+      "name: t\n"
+      "meshes: { fluid: { geo: fluid_slab.geo } }\n"
+      "fluid:\n";
+  EXPECT_EQ(text_error(head + "  gas: { viscosity: { law: sutherlnd } }\n"
+                              "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"),
+            at("inline.yaml", 4, "fluid.gas.viscosity.law: unknown value 'sutherlnd'; did you "
+                                 "mean 'sutherland'? (one of: none, constant, sutherland)"));
+  EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
+                              "  boundaries: [ { group: inflow, type: no_slip_wall, temperature: -1 } ]\n"),
+            at("inline.yaml", 5, "fluid.boundaries[0].temperature: must be > 0 K, got -1"));
+  EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
+                              "  boundaries: [ { group: inflow, type: slip_wall, temperature: 300 } ]\n"),
+            at("inline.yaml", 5, "fluid.boundaries[0].temperature: only no_slip_wall boundaries take "
+                                 "a wall temperature"));
+}
+
+TEST(ReadCase, ShellPathControlAndTimeScheme) {
+  const std::string head =
+      "name: t\n"
+      "meshes: { shell: { geo: panel_strip.geo } }\n"
+      "shell:\n"
+      "  thickness: 0.1\n"
+      "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n";
+  const Case d = read_case_string(
+      head + "  analysis: { type: static, steps: 5, control: displacement,\n"
+             "              controlled: { group: panel, component: y }, final_value: -0.2 }\n",
+      data("inline.yaml"));
+  EXPECT_EQ(d.shell->analysis->control, PathControl::displacement);
+  EXPECT_EQ(d.shell->analysis->controlled_group, "panel");
+  EXPECT_EQ(d.shell->analysis->controlled_component, 1);
+  EXPECT_EQ(d.shell->analysis->final_displacement, -0.2);
+  const Case a = read_case_string(
+      head + "  analysis: { type: static, control: arc_length, initial_load_increment: 0.05,\n"
+             "              final_load_factor: 3 }\n",
+      data("inline.yaml"));
+  EXPECT_EQ(a.shell->analysis->control, PathControl::arc_length);
+  EXPECT_EQ(a.shell->analysis->initial_load_increment, 0.05);
+  EXPECT_EQ(a.shell->analysis->final_load_factor, 3.0);
+  const Case m = read_case_string(
+      head + "  analysis: { type: dynamic, scheme: midpoint }\ntime: { end: 1, step: 0.1 }\n",
+      data("inline.yaml"));
+  EXPECT_EQ(m.shell->analysis->scheme, TimeScheme::midpoint);
+  EXPECT_EQ(text_error(head + "  analysis: { type: static, control: displacement,\n"
+                              "              controlled: { group: panel, node: 3, component: y },\n"
+                              "              final_value: 1 }\n"),
+            at("inline.yaml", 7, "shell.analysis.controlled: expected exactly one of 'group' "
+                                 "(its mean displacement) and 'node'"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: dynamic, scheme: midpiont }\n"
+                              "time: { end: 1, step: 0.1 }\n"),
+            at("inline.yaml", 6, "shell.analysis.scheme: unknown value 'midpiont'; did you mean "
+                                 "'midpoint'? (one of: newmark, midpoint)"));
+}
+
 }  // namespace
 }  // namespace shellflow::io

@@ -172,3 +172,107 @@ TEST(BoundaryConditions, CflAboveTheStableLimitIsRejected) {
   }
   EXPECT_THROW(model.step_local(-0.1), InputError);
 }
+
+TEST(BoundaryConditions, NoSlipWallImposesTheWallVelocityAndTemperatureAndOutranksSymmetry) {
+  FluidOptions o;
+  Viscosity v;
+  v.law = ViscosityLaw::constant;
+  v.mu_ref = 1e-3;
+  o.gas = IdealGas(1.4, 287.05, v);
+  const Vec3 v_wall(0.05, 0.3, -0.2);  // also normal to the symmetry planes: no-slip wins
+  const double t_wall = 0.004;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {BoundaryCondition::no_slip("left", [&](Index, const Vec3&, double) { return v_wall; }),
+                    BoundaryCondition::no_slip("right", {}, t_wall),
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  EXPECT_EQ(model.boundaries().adiabatic_wall_faces().size(),
+            std::size_t(model.mesh().group("left").elements.size()));
+  const auto given = [](const Vec3& x) {
+    return Primitive{1.0 + 0.1 * x.x(), Vec3(0.3 + x.x(), 0.2, -0.1), 2.0 + x.x()};
+  };
+  model.set_state(given);
+  int left = 0, right = 0;
+  for (Index a = 0; a < model.mesh().num_nodes(); ++a) {
+    const Vec3& x = model.positions()[std::size_t(a)];
+    const Primitive s = model.primitive(a);
+    const Primitive g = given(x);
+    EXPECT_DOUBLE_EQ(s.rho, g.rho);
+    if (x.x() < 1e-9) {  // adiabatic: velocity of the wall, the given pressure kept
+      ++left;
+      EXPECT_LT((s.velocity - v_wall).norm(), 1e-14);
+      EXPECT_NEAR(s.pressure, g.pressure, 1e-12);
+    } else if (x.x() > 1 - 1e-9) {  // isothermal fixed wall
+      ++right;
+      EXPECT_LT(s.velocity.norm(), 1e-14);
+      EXPECT_NEAR(o.gas.temperature(s.rho, s.pressure), t_wall, 1e-15);
+    } else {  // symmetry planes y = 0, 0.02 and z = 0, 0.02: the normal components removed
+      EXPECT_NEAR(s.velocity.x(), g.velocity.x(), 1e-14);
+      EXPECT_NEAR(s.velocity.y(), 0.0, 1e-14);
+      EXPECT_NEAR(s.velocity.z(), 0.0, 1e-14);
+    }
+  }
+  EXPECT_EQ(left, 4);
+  EXPECT_EQ(right, 4);
+  EXPECT_THROW(
+      FluidModel(test_support::case_mesh("tube_nx100.geo"), FluidOptions{},
+                 {BoundaryCondition::no_slip("left"), BoundaryCondition::no_slip("right"),
+                  {"sides", BoundaryKind::symmetry, {}, {}}}),
+      InputError);  // inviscid gas
+}
+
+TEST(WallForce, EulerTractionIsPressureTimesTheNormalAndTheForceIsThePressureForce) {
+  FluidOptions o;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {{"left", BoundaryKind::slip_wall, {}, {}},
+                    {"right", BoundaryKind::slip_wall, {}, {}},
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  model.set_state([](const Vec3& x) { return Primitive{1.0, Vec3::Zero(), 2.0 + x.x()}; });
+  const WallTraction w = model.wall_traction("right");
+  ASSERT_EQ(w.nodes.size(), 4u);
+  for (std::size_t s = 0; s < w.nodes.size(); ++s) {
+    EXPECT_LT((w.normal[s] - Vec3::UnitX()).norm(), 1e-14);
+    EXPECT_LT((w.traction[s] - 3.0 * Vec3::UnitX()).norm(), 1e-13);  // pushed out of the gas
+    EXPECT_EQ(w.shear[s], Vec3::Zero());
+  }
+  for (const char* g : {"left", "right", "sides"})
+    EXPECT_LT((model.viscous_force(g) - model.pressure_force(g)).norm(), 1e-16) << g;
+}
+
+TEST(BoundaryConditions, ConsistentMassSweepsKeepTheNoSlipIncrements) {
+  // The Jacobi sweeps of the consistent mass re-impose the Dirichlet increments: at no-slip
+  // nodes the new momentum is (rho + d rho) u_wall, and the energy follows T_wall when
+  // isothermal; the density increment and adiabatic energy stay free.
+  FluidOptions o;
+  Viscosity v;
+  v.law = ViscosityLaw::constant;
+  v.mu_ref = 1e-3;
+  o.gas = IdealGas(1.4, 287.05, v);
+  const Vec3 v_wall(0.0, 0.4, 0.1);
+  const double t_wall = 0.003;
+  FluidModel model(test_support::case_mesh("tube_nx100.geo"), o,
+                   {BoundaryCondition::no_slip("left", [&](Index, const Vec3&, double) { return v_wall; }),
+                    BoundaryCondition::no_slip("right", {}, t_wall),
+                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  model.set_state([](const Vec3& x) { return Primitive{1.0 + x.x(), Vec3(0.2, 0.1, 0.0), 1.0}; });
+  const FluidState& old = model.state();
+  FluidState d;
+  d.resize(old.size());
+  for (Index a = 0; a < d.size(); ++a) d.set(a, {0.01 * (a % 5), Vec3(0.3, -0.2, 0.1), 0.05});
+  model.boundaries().impose_dirichlet_increments(o.gas, 0.0, model.positions(), old, d);
+  for (Index a = 0; a < d.size(); ++a) {
+    const double x = model.positions()[std::size_t(a)].x();
+    const Conservative q = old.get(a), dq = d.get(a);
+    const Conservative next{q.rho + dq.rho, q.momentum + dq.momentum, q.energy + dq.energy};
+    EXPECT_DOUBLE_EQ(dq.rho, 0.01 * (a % 5));
+    if (x < 1e-9) {
+      EXPECT_LT((next.momentum / next.rho - v_wall).norm(), 1e-14);
+      EXPECT_DOUBLE_EQ(dq.energy, 0.05);
+    } else if (x > 1 - 1e-9) {
+      EXPECT_LT(next.momentum.norm(), 1e-14);
+      const Primitive p = to_primitive(o.gas, next);
+      EXPECT_NEAR(o.gas.temperature(p.rho, p.pressure), t_wall, 1e-15);
+    } else {
+      EXPECT_EQ(dq.momentum, Vec3(0.3, -0.2, 0.1));
+    }
+  }
+}

@@ -229,3 +229,99 @@ TEST(ShellLoads, SmallPressureOnClampedStripGivesPlateStripDeflection) {
 
 }  // namespace
 }  // namespace shellflow::shell
+
+#include "structured_shell_mesh.h"
+
+namespace shellflow::shell {
+namespace {
+
+/// Quarter of a unit cylinder about the x axis (directors point outwards), 3 x 3 cells.
+ShellModel cylinder_patch() {
+  ShellSection section;
+  section.thickness = 0.01;
+  section.material = {1e9, 0.3, 0.0};
+  return ShellModel(testing::structured_shell_mesh(
+                        1.0, 1.5, 3, 3, [](double s, double t) { return Vec3(s, std::sin(t), std::cos(t)); }),
+                    section);
+}
+
+TEST(ShellLocator, PointsOffsetAlongTheNormalAreFoundAtTheirFoot) {
+  const ShellModel model = cylinder_patch();
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
+  const ShellLocator locator(model);
+  double worst_xi = 0.0, worst_distance = 0.0;
+  for (Index e : {0, 5, 11, 17})
+    for (const Vec2& xi : {Vec2(0.2, 0.3), Vec2(0.6, 0.1), Vec2(0.05, 0.9)})
+      for (double d : {0.3, -0.25, 1e-3, 0.0}) {
+        const ShellPoint foot{e, xi};
+        const Vec3 p = mid_surface_position(model, foot, zero) + d * mid_surface_normal(model, foot, zero);
+        const ClosestPoint c = locator.closest(p);
+        EXPECT_EQ(c.point.element, e);
+        worst_xi = std::max(worst_xi, (c.point.xi - xi).norm());
+        worst_distance = std::max({worst_distance, std::abs(c.distance - std::abs(d)), std::abs(c.offset - d)});
+      }
+  std::printf("locator, cylinder: max |xi - xi_exact| %.2e, max distance/offset error %.2e\n", worst_xi,
+              worst_distance);
+  EXPECT_LT(worst_xi, 1e-10);
+  EXPECT_LT(worst_distance, 1e-12);
+}
+
+TEST(ShellLocator, PointsBeyondAnEdgeProjectOntoTheEdge) {
+  const ShellModel model = cylinder_patch();
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
+  const ShellLocator locator(model);
+  // Structured mesh: cell 2 (cy nx + cx) of the last column has its edge 1 (ξ = (1 − s, s))
+  // on the edge x = 1.
+  const Index e = 2 * (1 * 3 + 2);
+  for (double s : {0.15, 0.4, 0.8}) {
+    const ShellPoint foot{e, Vec2(1.0 - s, s)};
+    const Vec3 x = mid_surface_position(model, foot, zero);
+    ASSERT_NEAR(x.x(), 1.0, 1e-14);
+    const Vec3 n = mid_surface_normal(model, foot, zero);
+    // Outward conormal: in the tangent plane, normal to the edge tangent.
+    double dN[20];
+    fem::Tri10::eval_gradients(foot.xi.data(), dN);
+    Vec3 tangent = Vec3::Zero();  // d x̂ / ds along ξ = (1 − s, s)
+    const auto conn = model.mesh().cells.element(e);
+    for (int j = 0; j < 10; ++j)
+      tangent += (dN[2 * j + 1] - dN[2 * j]) * model.mesh().nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
+    Vec3 conormal = tangent.cross(n).normalized();
+    if (conormal.x() < 0.0) conormal = -conormal;
+    for (const auto& [out, d] : {std::pair{0.2, 0.1}, std::pair{0.05, -0.3}, std::pair{1.0, 0.0}}) {
+      const Vec3 p = x + out * conormal + d * n;
+      const ClosestPoint c = locator.closest(p);
+      EXPECT_EQ(c.point.element, e);
+      EXPECT_LT((c.point.xi - foot.xi).norm(), 1e-10) << "s = " << s;
+      EXPECT_NEAR(c.distance, std::hypot(out, d), 1e-12);
+      EXPECT_NEAR(c.offset, d, 1e-12);
+    }
+  }
+  // Beyond a corner: the corner node.
+  const Index corner_element = 2 * (2 * 3 + 2);  // last row and column; vertex 2 at (1, 1.5)
+  const Vec3 corner = mid_surface_position(model, {corner_element, Vec2(0.0, 1.0)}, zero);
+  const ClosestPoint c = locator.closest(corner + Vec3(0.3, 0.5, -0.1));
+  EXPECT_LT((c.position - corner).norm(), 1e-12);
+}
+
+TEST(ShellLocator, DeformedStateIsSearchedInItsCurrentPositions) {
+  const ShellModel model = cylinder_patch();
+  const Mat3 R = Eigen::AngleAxisd(0.7, Vec3(1, 1, 0).normalized()).toRotationMatrix();
+  const Vec3 shift(0.5, -1.0, 2.0);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(model.num_dofs());
+  for (Index n = 0; n < model.num_nodes(); ++n) {
+    const Vec3& X = model.mesh().nodes[static_cast<std::size_t>(n)];
+    u.segment<3>(7 * n) = R * X + shift - X;
+  }
+  const ShellLocator locator(model, u);
+  const ShellPoint foot{7, Vec2(0.25, 0.35)};
+  const Vec3 p = mid_surface_position(model, foot, u) + 0.2 * mid_surface_normal(model, foot, u);
+  const ClosestPoint c = locator.closest(p);
+  EXPECT_EQ(c.point.element, foot.element);
+  EXPECT_LT((c.point.xi - foot.xi).norm(), 1e-10);
+  EXPECT_NEAR(c.offset, 0.2, 1e-12);
+  EXPECT_THROW(locator.closest(Vec3(std::nan(""), 0.0, 0.0)), InputError);
+  EXPECT_THROW(ShellLocator(model, Eigen::VectorXd::Zero(3)), InputError);
+}
+
+}  // namespace
+}  // namespace shellflow::shell

@@ -48,6 +48,36 @@ TimeFunction TimeFunction::tabulated(std::vector<double> times, std::vector<doub
   return f;
 }
 
+TimeFunction TimeFunction::step(double value, double t_on) {
+  if (!std::isfinite(t_on)) throw InputError(fmt::format("step time must be finite, got {}", t_on));
+  TimeFunction f;
+  f.kind_ = Kind::step;
+  f.a_ = value;
+  f.b_ = t_on;
+  return f;
+}
+
+TimeFunction TimeFunction::smooth_step(double value, double t_on, double duration) {
+  if (!std::isfinite(t_on))
+    throw InputError(fmt::format("smooth step time must be finite, got {}", t_on));
+  if (!(duration > 0.0) || !std::isfinite(duration)) {
+    throw InputError(fmt::format("smooth step duration must be > 0 and finite, got {}", duration));
+  }
+  TimeFunction f;
+  f.kind_ = Kind::smooth_step;
+  f.a_ = value;
+  f.b_ = t_on;
+  f.c_ = duration;
+  return f;
+}
+
+TimeFunction TimeFunction::expression(std::string text) {
+  TimeFunction f;
+  f.kind_ = Kind::expression;
+  f.expression_ = Expression::parse(text);
+  return f;
+}
+
 double TimeFunction::value(double t) const {
   switch (kind_) {
     case Kind::constant: return a_;
@@ -61,6 +91,12 @@ double TimeFunction::value(double t) const {
       const double s = (t - times_[i - 1]) / (times_[i] - times_[i - 1]);
       return (1.0 - s) * values_[i - 1] + s * values_[i];
     }
+    case Kind::step: return t >= b_ ? a_ : 0.0;
+    case Kind::smooth_step: {
+      const double s = std::clamp((t - b_) / c_, 0.0, 1.0);
+      return a_ * s * s * (3.0 - 2.0 * s);
+    }
+    case Kind::expression: return expression_.value(t);
   }
   return 0.0;
 }
@@ -76,8 +112,31 @@ double TimeFunction::derivative(double t) const {
           std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
       return (values_[i] - values_[i - 1]) / (times_[i] - times_[i - 1]);
     }
+    // The derivative of the jump is value * (Dirac impulse at t_on), which no double can
+    // hold; returning a large finite number instead would depend on the time step and
+    // inject an arbitrary impulse. Callers see the jump through value(); a load that needs
+    // a finite rate uses smooth_step.
+    case Kind::step: return 0.0;
+    case Kind::smooth_step: {
+      const double s = std::clamp((t - b_) / c_, 0.0, 1.0);
+      return a_ * 6.0 * s * (1.0 - s) / c_;
+    }
+    case Kind::expression: return expression_.derivative(t);
   }
   return 0.0;
+}
+
+std::optional<double> TimeFunction::first_non_finite(double t0, double t1, int samples) const {
+  if (!(t1 >= t0) || samples < 2) {
+    throw InputError(fmt::format("first_non_finite needs t0 <= t1 and at least 2 samples, "
+                                 "got [{}, {}] and {}", t0, t1, samples));
+  }
+  for (int i = 0; i < samples; ++i) {
+    // The last sample is t1 itself, not t0 + (t1 - t0) * 1 with its rounding.
+    const double t = i + 1 == samples ? t1 : t0 + (t1 - t0) * i / (samples - 1);
+    if (!std::isfinite(value(t)) || !std::isfinite(derivative(t))) return t;
+  }
+  return std::nullopt;
 }
 
 }  // namespace shellflow

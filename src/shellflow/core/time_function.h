@@ -1,13 +1,16 @@
 #pragma once
 // Scalar functions of time that scale loads and prescribed motions: f(t) and f'(t).
+#include <optional>
 #include <string>
 #include <vector>
+
+#include "shellflow/core/expression.h"
 
 namespace shellflow {
 
 class TimeFunction {
  public:
-  enum class Kind { constant, ramp, sine, tabulated };
+  enum class Kind { constant, ramp, sine, tabulated, step, smooth_step, expression };
 
   /// f(t) = value.
   static TimeFunction constant(double value);
@@ -17,15 +20,34 @@ class TimeFunction {
   static TimeFunction sine(double value, double frequency, double phase = 0.0);
   /// Piecewise linear through (times[i], values[i]), constant outside; times increasing.
   static TimeFunction tabulated(std::vector<double> times, std::vector<double> values);
+  /// f(t) = 0 for t < t_on, value for t >= t_on. f'(t) = 0 everywhere, not the impulse
+  /// value * delta(t - t_on): no double holds it (see derivative()); use smooth_step where
+  /// the rate matters.
+  static TimeFunction step(double value, double t_on);
+  /// f(t) = value * s^2 (3 - 2 s), s = clamp((t - t_on) / duration, 0, 1) (duration > 0):
+  /// from 0 at t_on to value at t_on + duration with f' continuous (zero at both ends).
+  static TimeFunction smooth_step(double value, double t_on, double duration);
+  /// f(t) given by an arithmetic expression in t (see expression.h for the language), e.g.
+  /// "0.1*sin(2*pi*20*t)"; throws InputError naming the column of a syntax error.
+  static TimeFunction expression(std::string text);
 
   double value(double t) const;
   double derivative(double t) const;
   Kind kind() const { return kind_; }
 
+  /// The first of `samples` equally spaced times in [t0, t1] (both ends included) where
+  /// f or f' is not finite (an expression dividing by zero, log of a negative number ...),
+  /// or none. A sampling check, not a proof: a pole between two samples goes unseen.
+  std::optional<double> first_non_finite(double t0, double t1, int samples = 1001) const;
+  bool is_finite_on(double t0, double t1, int samples = 1001) const {
+    return !first_non_finite(t0, t1, samples).has_value();
+  }
+
  private:
   Kind kind_ = Kind::constant;
   double a_ = 0.0, b_ = 0.0, c_ = 0.0;
   std::vector<double> times_, values_;
+  Expression expression_;
 };
 
 }  // namespace shellflow

@@ -21,7 +21,8 @@ FaceKey sorted_key(Index a, Index b, Index c) {
 
 int rank(BoundaryKind k) {
   switch (k) {
-    case BoundaryKind::supersonic_inflow: return 4;
+    case BoundaryKind::supersonic_inflow: return 5;
+    case BoundaryKind::no_slip_wall: return 4;
     case BoundaryKind::slip_wall:
     case BoundaryKind::symmetry: return 3;
     case BoundaryKind::far_field: return 2;
@@ -62,6 +63,7 @@ const char* to_string(BoundaryKind kind) {
     case BoundaryKind::slip_wall: return "slip_wall";
     case BoundaryKind::symmetry: return "symmetry";
     case BoundaryKind::far_field: return "far_field";
+    case BoundaryKind::no_slip_wall: return "no_slip_wall";
   }
   return "?";
 }
@@ -95,12 +97,25 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
             "got rho = {}, p = {}, Mach {:.4g}; use far_field for a subsonic inflow",
             bc.group, s.rho, s.pressure, mach));
     }
+    if (bc.kind == BoundaryKind::no_slip_wall && !gas.viscous())
+      throw InputError(fmt::format(
+          "fluid boundary '{}' of mesh '{}': no_slip_wall needs the viscous terms, but the gas "
+          "is inviscid; set the fluid viscosity (fluid.gas.viscosity: constant or sutherland) "
+          "or use slip_wall",
+          bc.group, mesh.name));
+    if (bc.wall_temperature &&
+        (bc.kind != BoundaryKind::no_slip_wall || !(*bc.wall_temperature > 0.0) ||
+         !std::isfinite(*bc.wall_temperature)))
+      throw InputError(fmt::format(
+          "fluid boundary '{}' ({}): wall temperature {} K; give a positive temperature on a "
+          "no_slip_wall, or none (adiabatic wall)",
+          bc.group, to_string(bc.kind), *bc.wall_temperature));
   }
   for (const auto& g : mesh.groups)
     if (g.dim == 2 && !by_group.contains(g.name))
       throw InputError(fmt::format(
           "fluid boundary group '{}' of mesh '{}' has no boundary condition; give it one of "
-          "supersonic_inflow, supersonic_outflow, slip_wall, symmetry, far_field",
+          "supersonic_inflow, supersonic_outflow, slip_wall, no_slip_wall, symmetry, far_field",
           g.name, mesh.name));
 
   // Faces with their owning element.
@@ -140,6 +155,8 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
     const auto kind = conditions_[std::size_t(f.condition)].kind;
     if (kind == BoundaryKind::supersonic_outflow || kind == BoundaryKind::far_field)
       natural_faces_.push_back(f.face);
+    if (kind == BoundaryKind::no_slip_wall && !conditions_[std::size_t(f.condition)].wall_temperature)
+      adiabatic_wall_faces_.push_back(f.face);
   }
 
   // Node classification by priority.
@@ -161,6 +178,9 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
     const auto kind = conditions_[std::size_t(c)].kind;
     if (kind == BoundaryKind::supersonic_inflow) {
       inflow_nodes_.emplace_back(a, c);
+    } else if (kind == BoundaryKind::no_slip_wall) {
+      no_slip_nodes_.push_back(a);
+      no_slip_condition_.push_back(c);
     } else if (is_wall(kind)) {
       wall_slot_[std::size_t(a)] = Index(wall_nodes_.size());
       wall_nodes_.push_back(a);
@@ -246,14 +266,28 @@ void BoundarySet::update_normals(std::span<const Vec3> x) {
   }
 }
 
-void BoundarySet::impose_inflow_increments(const IdealGas& gas, double t,
-                                           std::span<const Vec3> x, const FluidState& u_old,
-                                           FluidState& increment) const {
+void BoundarySet::impose_dirichlet_increments(const IdealGas& gas, double t,
+                                              std::span<const Vec3> x, const FluidState& u_old,
+                                              FluidState& increment) const {
   for (const auto& [a, c] : inflow_nodes_) {
     const auto& bc = conditions_[std::size_t(c)];
     const Conservative q = to_conservative(gas, bc.state_at ? bc.state_at(x[std::size_t(a)], t) : bc.state);
     const Conservative old = u_old.get(a);
     increment.set(a, {q.rho - old.rho, q.momentum - old.momentum, q.energy - old.energy});
+  }
+  // No-slip walls: the wall reaction must not spread through the consistent mass.
+  for (std::size_t s = 0; s < no_slip_nodes_.size(); ++s) {
+    const Index a = no_slip_nodes_[s];
+    const auto& bc = conditions_[std::size_t(no_slip_condition_[s])];
+    const Vec3 wall_velocity =
+        bc.wall_velocity ? bc.wall_velocity(a, x[std::size_t(a)], t) : Vec3(Vec3::Zero());
+    const Conservative old = u_old.get(a);
+    Conservative d = increment.get(a);
+    const double rho = old.rho + d.rho;
+    d.momentum = rho * wall_velocity - old.momentum;
+    if (bc.wall_temperature)
+      d.energy = rho * (gas.cv() * *bc.wall_temperature + 0.5 * wall_velocity.squaredNorm()) - old.energy;
+    increment.set(a, d);
   }
 }
 
@@ -272,7 +306,7 @@ std::span<const Vec3> BoundarySet::wall_constraints(Index node) const {
 }
 
 void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x,
-                        std::span<const Vec3> w, FluidState& u) const {
+                        std::span<const Vec3> w, FluidState& u, bool initial_state) const {
   const double gm1 = gas.gamma - 1.0;
   auto state_of = [&](const BoundaryCondition& bc, Index a) {
     return bc.state_at ? bc.state_at(x[std::size_t(a)], t) : bc.state;
@@ -306,6 +340,29 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x,
     b.pressure = b.rho * c_b * c_b / gas.gamma;
     b.velocity = tangential + (vn_b + wa.dot(n)) * n;
     u.set(a, to_conservative(gas, b));
+  }
+
+  // No-slip: u = u_wall. Isothermal walls reset rho E with the wall temperature and the
+  // current rho. Adiabatic walls keep the updated total energy: that is the explicit step of
+  // the semi-discrete system in which the wall momentum is constrained and the energy row
+  // (with the wall's shear work) evolves freely. Keeping the pressure instead would subtract
+  // the kinetic energy of the wall reaction m* - rho u_wall every step: the shear work at a
+  // moving wall, and an O(dt / h^2) sink at a fixed one (first-order error in T, measured).
+  // The initial state keeps its pressure (its velocity need not match the wall's).
+  for (std::size_t s = 0; s < no_slip_nodes_.size(); ++s) {
+    const Index a = no_slip_nodes_[s];
+    const auto& bc = conditions_[std::size_t(no_slip_condition_[s])];
+    Conservative q = u.get(a);
+    const Vec3 wall_velocity =
+        bc.wall_velocity ? bc.wall_velocity(a, x[std::size_t(a)], t) : Vec3(Vec3::Zero());
+    const double kinetic = 0.5 * q.rho * wall_velocity.squaredNorm();
+    if (bc.wall_temperature)
+      q.energy = q.rho * gas.cv() * *bc.wall_temperature + kinetic;
+    else if (initial_state)
+      q.energy = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy) / gm1 +
+                 kinetic;
+    q.momentum = q.rho * wall_velocity;
+    u.set(a, q);
   }
 
   for (std::size_t s = 0; s < wall_nodes_.size(); ++s) {

@@ -1,11 +1,12 @@
 #pragma once
 // Boundary conditions on physical groups, imposed strongly on the nodal values after the
-// update (fluid.md §9). Priority where groups meet: supersonic inflow > slip wall /
-// symmetry > far field > supersonic outflow. Slip-wall and symmetry nodes are constrained
+// update (fluid.md §9). Priority where groups meet: supersonic inflow > no-slip wall >
+// slip wall / symmetry > far field > supersonic outflow. Slip-wall and symmetry nodes are constrained
 // along every distinct normal of their adjacent faces (clusters more than 30° apart), so
 // edges and corners where two walls or a wall and a symmetry plane meet are handled.
 #include <array>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -25,10 +26,11 @@ enum class BoundaryKind {
   slip_wall,           ///< (u - w_wall) . n = 0, pressure kept (paper eq. 29)
   symmetry,            ///< u . n = 0 with the plane's normal
   far_field,           ///< characteristic (Riemann-invariant) state from `state`
+  no_slip_wall,        ///< u = u_wall (viscous runs only); adiabatic, or T = wall_temperature
 };
 const char* to_string(BoundaryKind kind);
 
-/// Velocity of a moving slip wall at node `node`, position x, time t.
+/// Velocity of a moving wall at node `node`, position x, time t.
 using WallVelocity = std::function<Vec3(Index node, const Vec3& x, double t)>;
 
 /// Inflow / far-field state varying in space and time.
@@ -38,8 +40,10 @@ struct BoundaryCondition {
   std::string group;             ///< physical group (surface) of the mesh
   BoundaryKind kind = BoundaryKind::slip_wall;
   Primitive state;               ///< free stream for inflow and far field
-  WallVelocity wall_velocity;    ///< slip wall only; empty: fixed wall
+  WallVelocity wall_velocity;    ///< slip and no-slip walls; empty: fixed wall
   StateFunction state_at;        ///< replaces `state` when set
+  /// No-slip wall only: imposed wall temperature (K); empty: adiabatic (no heat flux).
+  std::optional<double> wall_temperature;
 
   BoundaryCondition() = default;
   BoundaryCondition(std::string group_name, BoundaryKind condition_kind, Primitive constant_state = {},
@@ -49,6 +53,14 @@ struct BoundaryCondition {
         state(constant_state),
         wall_velocity(std::move(wall)),
         state_at(std::move(varying_state)) {}
+
+  /// A no-slip wall moving with `wall` (empty: fixed), adiabatic unless `temperature` is set.
+  static BoundaryCondition no_slip(std::string group_name, WallVelocity wall = {},
+                                   std::optional<double> temperature = {}) {
+    BoundaryCondition bc(std::move(group_name), BoundaryKind::no_slip_wall, {}, std::move(wall));
+    bc.wall_temperature = temperature;
+    return bc;
+  }
 };
 
 /// The boundary conditions of one mesh: topology at setup, normals at each configuration.
@@ -65,8 +77,8 @@ class BoundarySet {
  public:
   BoundarySet() = default;
   /// `tets`: the solver's connectivity. Throws InputError for a surface group with no
-  /// condition, an unknown group, two conditions on one group, or an inflow state that is
-  /// not supersonic.
+  /// condition, an unknown group, two conditions on one group, an inflow state that is
+  /// not supersonic, a no-slip wall with an inviscid gas, or a wall temperature <= 0.
   BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets, const IdealGas& gas,
               std::vector<BoundaryCondition> conditions);
 
@@ -74,16 +86,24 @@ class BoundarySet {
   void update_normals(std::span<const Vec3> x);
 
   /// Imposes all conditions on u at time t; x, w: positions and mesh velocity.
+  /// `initial_state`: u is a given initial field, not the result of a step (adiabatic
+  /// no-slip walls then keep the pressure instead of the updated total energy).
   void apply(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w,
-             FluidState& u) const;
+             FluidState& u, bool initial_state = false) const;
 
-  /// Sets the increments of the supersonic-inflow nodes to (imposed state - u_old) at time
-  /// t and positions x (for the consistent-mass iterations).
-  void impose_inflow_increments(const IdealGas& gas, double t, std::span<const Vec3> x,
-                                const FluidState& u_old, FluidState& increment) const;
+  /// Sets the increments of the Dirichlet values at time t and positions x (for the
+  /// consistent-mass iterations): supersonic-inflow nodes to (imposed state - u_old);
+  /// no-slip nodes' momentum to (rho_old + d rho) u_wall - m_old, and their energy too when
+  /// the wall is isothermal.
+  void impose_dirichlet_increments(const IdealGas& gas, double t, std::span<const Vec3> x,
+                                   const FluidState& u_old, FluidState& increment) const;
 
   /// Faces of natural boundaries (outflow and far field) for the C3 term.
   std::span<const BoundaryFace> natural_faces() const { return natural_faces_; }
+  /// Faces of adiabatic no-slip walls (they carry the work of the viscous stress).
+  std::span<const BoundaryFace> adiabatic_wall_faces() const { return adiabatic_wall_faces_; }
+  /// Nodes where the no-slip condition is imposed (after priorities), sorted.
+  std::span<const Index> no_slip_nodes() const { return no_slip_nodes_; }
   /// Constraint directions at a slip-wall/symmetry node (empty span elsewhere).
   std::span<const Vec3> wall_constraints(Index node) const;
   const std::vector<BoundaryCondition>& conditions() const { return conditions_; }
@@ -100,6 +120,10 @@ class BoundarySet {
   std::vector<Face> faces_;
   std::unordered_map<std::array<Index, 3>, std::size_t, FaceKeyHash> face_index_;
   std::vector<BoundaryFace> natural_faces_;
+  std::vector<BoundaryFace> adiabatic_wall_faces_;
+  // no-slip nodes and their condition
+  std::vector<Index> no_slip_nodes_;
+  std::vector<int> no_slip_condition_;
   // inflow nodes and their condition
   std::vector<std::pair<Index, int>> inflow_nodes_;
   // slip/symmetry nodes: faces adjacent (CSR, symmetry faces first), constraints, wall condition

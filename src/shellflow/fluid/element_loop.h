@@ -17,6 +17,22 @@ struct ElementLoop {
   std::span<const Index> colour_offsets;  ///< blocks of colour c: [colour_offsets[c], [c+1])
 };
 
+/// Calls body(first, last) for every block of elements [first, last); blocks of one colour
+/// run concurrently, so body may scatter to the nodes of its elements without atomics.
+template <class Body>
+void for_each_block(const ElementLoop& loop, Body&& body) {
+  const int num_colours = static_cast<int>(loop.colour_offsets.size()) - 1;
+  const auto num_elements = static_cast<Index>(loop.tets.size() / 4);
+#pragma omp parallel if (num_elements > parallel_threshold)
+  for (int c = 0; c < num_colours; ++c) {
+    const Index first = loop.colour_offsets[std::size_t(c)];
+    const Index last = loop.colour_offsets[std::size_t(c) + 1];
+#pragma omp for schedule(dynamic, 1)
+    for (Index b = first; b < last; ++b)
+      body(loop.block_offsets[std::size_t(b)], loop.block_offsets[std::size_t(b) + 1]);
+  }
+}
+
 /// Calls body(e) for every element; elements of one colour run concurrently, so body may
 /// scatter to the element's nodes without atomics.
 template <class Body>

@@ -10,6 +10,7 @@
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/mass.h"
 #include "shellflow/fluid/time_step.h"
+#include "shellflow/fluid/viscous.h"
 
 namespace shellflow::fluid {
 
@@ -32,6 +33,7 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options,
   x_ = mesh_.nodes;
   w_.assign(std::size_t(nn), Vec3::Zero());
   compute_geometry(x_, tets_, geometry_);
+  check_viscosity(options_.gas);
   boundaries_ = BoundarySet(mesh_, tets_, options_.gas, std::move(conditions));
   boundaries_.update_normals(x_);
   state_.resize(nn);
@@ -42,7 +44,7 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options,
 void FluidModel::set_state(const std::function<Primitive(const Vec3&)>& field) {
   for (Index a = 0; a < mesh_.num_nodes(); ++a)
     state_.set(a, to_conservative(options_.gas, field(x_[std::size_t(a)])));
-  boundaries_.apply(options_.gas, time_, x_, w_, state_);
+  boundaries_.apply(options_.gas, time_, x_, w_, state_, true);
   check_positivity(state_, time_);
   viscosity_valid_ = false;
 }
@@ -83,8 +85,14 @@ void FluidModel::update_viscosity() {
 double FluidModel::stable_dt(double cfl) {
   check_cfl(cfl);
   update_viscosity();
-  return cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_, viscosity_,
-                                     time_step_work_);
+  return cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_,
+                                     time_step_diffusivity(), time_step_work_);
+}
+
+std::span<const double> FluidModel::time_step_diffusivity() {
+  if (!options_.gas.viscous()) return viscosity_;
+  element_diffusivity(options_.gas, tets_, state_, viscosity_, diffusivity_);
+  return diffusivity_;
 }
 
 void FluidModel::step(double dt) { step(dt, x_, std::span<const Vec3>{}); }
@@ -97,7 +105,8 @@ void FluidModel::step_local(double cfl) {
   check_cfl(cfl);
   update_viscosity();
   const double dt_min = cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_,
-                                                    viscosity_, time_step_work_, &element_dt_);
+                                                    time_step_diffusivity(), time_step_work_,
+                                                    &element_dt_);
   for (auto& dt : element_dt_) dt *= cfl;
   nodal_dt_.assign(std::size_t(mesh_.num_nodes()), std::numeric_limits<double>::infinity());
   for (std::size_t e = 0; e < element_dt_.size(); ++e)
@@ -134,16 +143,22 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   assemble_residual(p, loop(), geometry_, state_, w_step, viscosity_, residual_);
   add_natural_boundary_term(p, loop(), x_, geometry_, state_, w_step,
                             boundaries_.natural_faces(), residual_);
+  if (options_.gas.viscous()) {
+    add_viscous_residual(options_.gas, dt, p.nodal_dt, loop(), geometry_, state_, residual_,
+                         viscous_work_);
+    add_wall_work(options_.gas, dt, p.nodal_dt, tets_, x_, geometry_, state_,
+                  boundaries_.adiabatic_wall_faces(), residual_);
+  }
   const auto& m = geometry_.lumped_mass;
   if (options_.consistent_mass_iterations > 0) {
     increment_.resize(nn);
     mass_work_.resize(nn);
-    // Inflow (Dirichlet) increments re-imposed after every sweep (spec §5).
+    // Dirichlet increments (inflow, no-slip) re-imposed after every sweep (spec §5).
     const double t_end_of_step = time_ + dt;
     solve_consistent_mass(loop(), geometry_, residual_, options_.consistent_mass_iterations,
                           increment_, mass_work_, [&](FluidState& dx) {
-                            boundaries_.impose_inflow_increments(options_.gas, t_end_of_step, x_next,
-                                                                 state_, dx);
+                            boundaries_.impose_dirichlet_increments(options_.gas, t_end_of_step,
+                                                                    x_next, state_, dx);
                           });
     for (int v = 0; v < num_variables; ++v) {
       const auto& u = state_.var[std::size_t(v)];
@@ -233,6 +248,74 @@ Vec3 FluidModel::pressure_force(std::string_view group_name) const {
   return force;
 }
 
+Vec3 FluidModel::viscous_force(std::string_view group_name) const {
+  const auto& group = mesh_.group(group_name);
+  const WallTraction w = wall_traction(group_name);
+  std::vector<Index> slot(std::size_t(mesh_.num_nodes()), -1);
+  for (std::size_t s = 0; s < w.nodes.size(); ++s) slot[std::size_t(w.nodes[s])] = Index(s);
+  // p and tau linear on each face, with the face's own normal (so a uniform state on a
+  // closed surface gives exactly zero).
+  Vec3 force = Vec3::Zero();
+  for (Index f = 0; f < group.elements.size(); ++f) {
+    const auto n = group.elements.element(f);
+    const Vec3 area = face_area_vector(x_, boundaries_.owner_of(n[0], n[1], n[2]));
+    double p = 0.0;
+    Mat3 tau = Mat3::Zero();
+    for (const Index a : n) {
+      const auto s = std::size_t(slot[std::size_t(a)]);
+      p += w.pressure[s];
+      tau += w.stress[s];
+    }
+    force += (p / 3.0) * area - (tau / 3.0) * area;
+  }
+  return force;
+}
+
+WallTraction FluidModel::wall_traction(std::string_view group_name) const {
+  const auto& group = mesh_.group(group_name);
+  WallTraction out;
+  out.nodes = group.nodes;
+  const std::size_t nn = out.nodes.size();
+  std::vector<Index> slot(std::size_t(mesh_.num_nodes()), -1);
+  for (std::size_t s = 0; s < nn; ++s) slot[std::size_t(out.nodes[s])] = Index(s);
+  out.normal.assign(nn, Vec3::Zero());
+  for (Index f = 0; f < group.elements.size(); ++f) {
+    const auto n = group.elements.element(f);
+    const Vec3 area = face_area_vector(x_, boundaries_.owner_of(n[0], n[1], n[2]));
+    for (const Index a : n) out.normal[std::size_t(slot[std::size_t(a)])] += area;
+  }
+  for (auto& n : out.normal) n.normalize();
+  // Nodal stress: volume-weighted mean of the adjacent elements' (constant) stresses.
+  std::vector<Mat3> stress(nn, Mat3::Zero());
+  if (options_.gas.viscous()) {
+    std::vector<double> volume(nn, 0.0);
+    for (std::size_t e = 0; e < tets_.size() / 4; ++e) {
+      const Index* t = tets_.data() + 4 * e;
+      bool touches = false;
+      for (int a = 0; a < 4; ++a) touches = touches || slot[std::size_t(t[a])] >= 0;
+      if (!touches) continue;
+      const Mat3 tau = element_viscous_flux(options_.gas, t, geometry_.grad[e].data(), state_).stress;
+      for (int a = 0; a < 4; ++a)
+        if (const Index s = slot[std::size_t(t[a])]; s >= 0) {
+          stress[std::size_t(s)] += geometry_.volume[e] * tau;
+          volume[std::size_t(s)] += geometry_.volume[e];
+        }
+    }
+    for (std::size_t s = 0; s < nn; ++s) stress[s] /= volume[s];
+  }
+  out.traction.resize(nn);
+  out.shear.resize(nn);
+  out.pressure.resize(nn);
+  for (std::size_t s = 0; s < nn; ++s) {
+    const Vec3& n = out.normal[s];
+    out.pressure[s] = primitive(out.nodes[s]).pressure;
+    out.shear[s] = -(stress[s] * n);
+    out.traction[s] = out.pressure[s] * n + out.shear[s];
+  }
+  out.stress = std::move(stress);
+  return out;
+}
+
 double FluidModel::total_mass() const {
   double mass = 0.0;
   for (std::size_t a = 0; a < std::size_t(mesh_.num_nodes()); ++a)
@@ -264,10 +347,26 @@ std::size_t FluidModel::memory_bytes() const {
   b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_);
   b += bytes(geometry_) + bytes(next_geometry_);
   b += bytes(state_) + bytes(next_state_) + bytes(residual_) + bytes(increment_) + bytes(mass_work_);
-  b += bytes(av_work_.pressure) + bytes(av_work_.nodal_viscosity) + bytes(av_work_.raw_viscosity);
+  b += bytes(av_work_.pressure) + bytes(av_work_.nodal_viscosity) + bytes(av_work_.speed);
   for (const auto& g : av_work_.gradient) b += bytes(g);
-  b += bytes(viscosity_) + bytes(time_step_work_) + bytes(element_dt_) + bytes(nodal_dt_);
+  b += bytes(viscosity_) + bytes(diffusivity_) + bytes(viscous_work_) + bytes(time_step_work_) + bytes(element_dt_) + bytes(nodal_dt_);
   return b;  // boundary data (surface only) not counted
+}
+
+std::vector<double> FluidModel::nodal_artificial_viscosity() {
+  update_viscosity();
+  const std::size_t nn = x_.size();
+  std::vector<double> sum(nn, 0.0), weight(nn, 0.0);
+  for (Index e = 0; e < geometry_.num_elements(); ++e) {
+    const double v = geometry_.volume[std::size_t(e)];
+    for (int k = 0; k < 4; ++k) {
+      const auto a = std::size_t(tets_[4 * std::size_t(e) + std::size_t(k)]);
+      sum[a] += v * viscosity_[std::size_t(e)];
+      weight[a] += v;
+    }
+  }
+  for (std::size_t a = 0; a < nn; ++a) sum[a] = weight[a] > 0.0 ? sum[a] / weight[a] : 0.0;
+  return sum;
 }
 
 }  // namespace shellflow::fluid

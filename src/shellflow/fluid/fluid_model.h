@@ -1,8 +1,9 @@
 #pragma once
-// FluidModel: compressible Euler flow on a moving tetrahedral mesh, advanced by the
-// explicit one-step Taylor–Galerkin ALE scheme of fluid.md. One step:
+// FluidModel: compressible Euler or Navier–Stokes flow on a moving tetrahedral mesh,
+// advanced by the explicit one-step Taylor–Galerkin ALE scheme of fluid.md. One step:
 //   1. artificial viscosity from U^n; 2. residual on the geometry of x^n with the mesh
-//   velocity w of the step; 3. U* = U^n + r / M; 4. move to x^{n+1}, recompute geometry
+//   velocity w of the step (plus the viscous pass when options.gas.viscosity is set);
+//   3. U* = U^n + r / M; 4. move to x^{n+1}, recompute geometry
 //   and normals; 5. boundary conditions on U*; 6. positivity check; 7. commit.
 // A failed step (inverted element, negative density or pressure) throws SolverError and
 // leaves the model at the last valid state, so the caller can still write it.
@@ -19,12 +20,13 @@
 #include "shellflow/fluid/residual.h"
 #include "shellflow/fluid/shock_capturing.h"
 #include "shellflow/fluid/state.h"
+#include "shellflow/fluid/viscous.h"
 #include "shellflow/mesh/mesh.h"
 
 namespace shellflow::fluid {
 
 struct FluidOptions {
-  IdealGas gas;
+  IdealGas gas;  ///< gas.viscosity set: Navier–Stokes (viscous pass, no-slip walls allowed)
   double q_dif = 0.0;        ///< artificial-viscosity coefficient (paper eq. 28), 0 = off
   bool av_smoothing = true;  ///< spread nu over one element layer (fluid.md §7 step 5)
   TgVelocity tg_velocity = TgVelocity::relative;
@@ -34,11 +36,24 @@ struct FluidOptions {
   int consistent_mass_iterations = 0;
 };
 
+/// Load of the fluid on a boundary group at its nodes (paper eq. 30, fluid.md §12). The
+/// nodal p and tau can also be interpolated to other points (shell load points) and
+/// combined with another normal: q = p n - tau n.
+struct WallTraction {
+  std::vector<Index> nodes;     ///< the group's nodes (sorted)
+  std::vector<Vec3> normal;     ///< unit outward normal of the fluid domain (into the structure)
+  std::vector<double> pressure; ///< nodal p
+  std::vector<Mat3> stress;     ///< nodal tau: volume-weighted mean of the adjacent elements'
+  std::vector<Vec3> traction;   ///< q = p n - tau n: force per area on the structure
+  std::vector<Vec3> shear;      ///< viscous part -tau n (zero for Euler)
+};
+
 class FluidModel {
  public:
   /// `mesh`: 4-node tetrahedra (renumber it with renumber_for_locality first for speed;
   /// node indices of the model are those of `mesh`). Throws InputError for a mesh that is
-  /// not tet4 or for bad boundary conditions, SolverError for an inverted element.
+  /// not tet4, for bad boundary conditions or viscosity parameters, SolverError for an
+  /// inverted element.
   FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions);
 
   /// Sets every node from a primitive field, then imposes the boundary conditions.
@@ -46,7 +61,8 @@ class FluidModel {
   /// Sets the conservative state as given (no boundary conditions applied).
   void set_state(const FluidState& state);
 
-  /// Largest stable step times `cfl`, from h_e / (|u - w| + c) and the diffusion limit;
+  /// Largest stable step times `cfl`, from h_e / (|u - w| + c) and the diffusion limit
+  /// h_e^2 / (2 nu) (artificial plus, for Navier–Stokes, max(mu, gamma mu / Pr) / rho);
   /// w is the mesh velocity of the last step (or set_mesh_velocity). Throws InputError for
   /// cfl outside (0, 1] (lumped mass) or (0, 0.6] (consistent mass).
   double stable_dt(double cfl);
@@ -82,6 +98,16 @@ class FluidModel {
   /// F = integral of p n dA, n the outward normal of the fluid domain (pointing into the
   /// structure), p linear on each face. Throws InputError for an unknown group.
   Vec3 pressure_force(std::string_view group) const;
+  /// Force of the full Navier–Stokes stress on the group (paper eq. 30):
+  /// F = integral of (p n - tau n) dA with the nodal p and tau of wall_traction linear on
+  /// each face. Equals pressure_force for Euler. Throws InputError for an unknown group.
+  Vec3 viscous_force(std::string_view group) const;
+  /// Nodal load q = p n - tau n on the group: nodal p, nodal tau the volume-weighted mean
+  /// of the adjacent elements' stresses, n the area-weighted normal of the group's faces.
+  WallTraction wall_traction(std::string_view group) const;
+  /// Artificial viscosity nu (m^2/s, paper eq. 28) of the current state at the nodes: the
+  /// volume-weighted mean of the adjacent elements' values (for output).
+  std::vector<double> nodal_artificial_viscosity();
   /// Bytes held by the model's arrays (mesh copy, geometry, states, work arrays).
   std::size_t memory_bytes() const;
   /// Total mass sum_a M_a rho_a (diagnostic; not exactly conserved on deforming meshes).
@@ -91,6 +117,8 @@ class FluidModel {
   void advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w, bool local);
   void check_cfl(double cfl) const;
   void update_viscosity();
+  /// Element diffusivities for the time-step limit (viscosity_ itself for Euler).
+  std::span<const double> time_step_diffusivity();
   void check_positivity(const FluidState& u, double t) const;
   ElementLoop loop() const { return {tets_, colours_.block_offsets, colours_.colour_offsets}; }
 
@@ -104,6 +132,8 @@ class FluidModel {
   FluidState state_, next_state_, residual_, increment_, mass_work_;
   ShockCapturingWorkspace av_work_;
   std::vector<double> viscosity_;
+  std::vector<double> diffusivity_;  // artificial + physical, for the time-step limit
+  NodalVelocityTemperature viscous_work_;
   std::vector<std::array<double, 4>> time_step_work_;
   std::vector<double> element_dt_, nodal_dt_;
   double density_rate_ = 0.0;

@@ -16,9 +16,9 @@ namespace shellflow::fluid {
 
 struct ShockCapturingWorkspace {
   std::vector<double> pressure;                  // nodal p
+  std::vector<double> speed;                     // nodal |u| + c
   std::array<std::vector<double>, 3> gradient;   // recovered nodal grad p
   std::vector<double> nodal_viscosity;           // sum V_e nu_e, then nu_a
-  std::vector<double> raw_viscosity;             // nu_e before smoothing
 };
 
 /// Element artificial viscosities for state u (zero everywhere when q_dif = 0).

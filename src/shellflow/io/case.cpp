@@ -29,12 +29,12 @@ constexpr std::array<std::string_view, 3> kReduceNames = {"mean", "min", "max"};
 constexpr std::array<std::string_view, 3> kMotionMethodNames = {"space_mesh", "direct_idw",
                                                                 "laplace"};
 constexpr std::array<std::string_view, 2> kWeightingNames = {"plain", "area"};
-enum class TimeFunctionType { constant, ramp, sine, tabulated };
+enum class TimeFunctionType { constant, ramp, sine, tabulated, step, smooth_step, expression };
+constexpr std::array<std::string_view, 7> kTimeFunctionNames = {
+    "constant", "ramp", "sine", "tabulated", "step", "smooth_step", "expression"};
 constexpr std::array<std::string_view, 5> kShellLoadNames = {"line", "point", "edge_couple",
                                                              "pressure", "gravity"};
 constexpr std::array<std::string_view, 2> kAnalysisNames = {"static", "dynamic"};
-constexpr std::array<std::string_view, 4> kTimeFunctionNames = {"constant", "ramp", "sine",
-                                                                "tabulated"};
 
 constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
     {"shell", "displacement", true},
@@ -87,6 +87,52 @@ Vec3 unit_vector(const YamlNode& node, std::string_view key, const Vec3& v) {
   const double n = v.norm();
   if (!(n > 0.0)) node.fail(key, "must be a non-zero vector [x, y, z], got [0, 0, 0]");
   return v / n;
+}
+
+/// Variables of the space-time expressions of a case file, in the order SpaceTimeScalar
+/// passes them: initial coordinates, then time.
+constexpr std::array<std::string_view, 4> kSpaceTimeVariables = {"x", "y", "z", "t"};
+
+/// A number or an expression of x, y, z, t (docs/case-format.md "Expressions"); `fail`
+/// reports a message at the value's line.
+template <class Fail>
+SpaceTimeScalar parse_space_time_scalar(std::string_view text, Fail&& fail) {
+  try {
+    return SpaceTimeScalar(Expression::parse(text, kSpaceTimeVariables));
+  } catch (const InputError& e) {
+    fail(std::string(e.what()));
+  }
+  return {};
+}
+
+SpaceTimeScalar read_space_time_scalar(const YamlNode& parent, std::string_view key) {
+  return parse_space_time_scalar(parent.required<std::string>(key),
+                                 [&](const std::string& what) { parent.fail(key, what); });
+}
+
+/// A list of three numbers or expressions.
+std::array<SpaceTimeScalar, 3> read_space_time_vector(const YamlNode& parent, std::string_view key) {
+  const std::vector<YamlNode> items = parent.list(key);
+  if (items.size() != 3) parent.fail(key, fmt::format("expected 3 components, got {}", items.size()));
+  std::array<SpaceTimeScalar, 3> v;
+  for (std::size_t d = 0; d < 3; ++d) {
+    if (!items[d].is_scalar()) items[d].fail("expected a number or an expression in quotes");
+    v[d] = parse_space_time_scalar(items[d].as<std::string>(),
+                                   [&](const std::string& what) { items[d].fail(what); });
+  }
+  return v;
+}
+
+/// {density, velocity: [3], pressure}, each a number or an expression of x, y, z, t.
+SpaceTimeState read_space_time_state(const YamlNode& node) {
+  node.expect_map();
+  SpaceTimeState s;
+  s.where = node.location();
+  s.density = read_space_time_scalar(node, "density");
+  s.pressure = read_space_time_scalar(node, "pressure");
+  if (node.has("velocity")) s.velocity = read_space_time_vector(node, "velocity");
+  node.finish();
+  return s;
 }
 
 void require_mesh(const YamlNode& section, const MeshesSection& meshes, std::string_view mesh) {
@@ -173,6 +219,24 @@ TimeFunction read_time_function(const YamlNode& node) {
       f = TimeFunction::tabulated(std::move(times), std::move(values));
       break;
     }
+    case TimeFunctionType::step:
+      f = TimeFunction::step(node.required<double>("value"),
+                             node.required<double>("time", Range::any(), "s"));
+      break;
+    case TimeFunctionType::smooth_step:
+      f = TimeFunction::smooth_step(node.required<double>("value"),
+                                    node.required<double>("time", Range::any(), "s"),
+                                    node.required<double>("duration", Range::positive(), "s"));
+      break;
+    case TimeFunctionType::expression: {
+      const std::string text = node.required<std::string>("value");
+      try {
+        f = TimeFunction::expression(text);
+      } catch (const InputError& e) {
+        node.fail("value", e.what());  // FILE:LINE: ....value: expression "...": column N: ...
+      }
+      break;
+    }
   }
   node.finish();
   return f;
@@ -247,9 +311,32 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     analysis.type = type == "static" ? ShellAnalysisType::static_load : ShellAnalysisType::dynamic;
     if (analysis.type == ShellAnalysisType::static_load) {
       analysis.steps = a->optional<int>("steps", 10, Range::at_least(1));
+      const std::string control =
+          a->choice("control", {"load", "displacement", "arc_length"}, "load");
+      if (control == "displacement") {
+        analysis.control = PathControl::displacement;
+        const YamlNode d = a->child("controlled");
+        if (d.has("group") == d.has("node")) {
+          d.fail("expected exactly one of 'group' (its mean displacement) and 'node'");
+        }
+        if (d.has("group")) analysis.controlled_group = read_group(d, "shell", refs);
+        if (d.has("node")) analysis.controlled_node = d.required<int>("node", Range::at_least(0));
+        const std::string axis = d.choice("component", {"x", "y", "z"});
+        analysis.controlled_component = axis == "x" ? 0 : axis == "y" ? 1 : 2;
+        d.finish();
+        analysis.final_displacement = a->required<double>("final_value", Range::any(), "m");
+      } else if (control == "arc_length") {
+        analysis.control = PathControl::arc_length;
+        analysis.initial_load_increment =
+            a->optional<double>("initial_load_increment", 0.1, Range::positive());
+        analysis.final_load_factor = a->optional<double>("final_load_factor", 1.0, Range::positive());
+      }
     } else {
       if (auto f = a->optional_child("load_function")) analysis.load_function = read_time_function(*f);
       analysis.mass_damping = a->optional<double>("mass_damping", 0.0, Range::non_negative(), "1/s");
+      analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint"
+                            ? TimeScheme::midpoint
+                            : TimeScheme::newmark;
     }
     a->finish();
     shell.analysis = std::move(analysis);
@@ -264,6 +351,20 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
     fluid.gas.gamma = gas->optional<double>("gamma", 1.4, Range::greater_than(1));
     fluid.gas.gas_constant =
         gas->optional<double>("gas_constant", 287.05, Range::positive(), "J/(kg K)");
+    if (auto v = gas->optional_child("viscosity")) {
+      Viscosity& mu = fluid.gas.viscosity;
+      const std::string law = v->choice("law", {"none", "constant", "sutherland"});
+      mu.law = law == "constant"     ? ViscosityLaw::constant
+               : law == "sutherland" ? ViscosityLaw::sutherland
+                                     : ViscosityLaw::none;
+      mu.mu_ref = v->optional<double>("mu_ref", mu.mu_ref, Range::positive(), "Pa s");
+      mu.prandtl = v->optional<double>("prandtl", mu.prandtl, Range::positive());
+      if (mu.law == ViscosityLaw::sutherland) {
+        mu.t_ref = v->optional<double>("t_ref", mu.t_ref, Range::positive(), "K");
+        mu.sutherland = v->optional<double>("sutherland", mu.sutherland, Range::non_negative(), "K");
+      }
+      v->finish();
+    }
     gas->finish();
   }
 
@@ -282,6 +383,26 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
     b.where = item.location();
     b.group = read_group(item, "fluid", refs);
     b.type = item.enumeration<FluidBoundaryType>("type", kFluidBoundaryNames);
+    if (auto s = item.optional_child("state")) {
+      if (b.type != FluidBoundaryType::supersonic_inflow && b.type != FluidBoundaryType::far_field) {
+        item.fail("state", fmt::format("a '{}' boundary takes no state; only supersonic_inflow "
+                                       "and far_field do",
+                                       to_string(b.type)));
+      }
+      b.state = read_space_time_state(*s);
+    }
+    for (const std::string_view key : {"velocity", "temperature"}) {
+      if (b.type != FluidBoundaryType::no_slip_wall && item.has(key)) {
+        item.fail(key, fmt::format("only no_slip_wall boundaries take a wall {}", key));
+      }
+    }
+    if (b.type == FluidBoundaryType::no_slip_wall) {
+      b.wall_velocity = item.vec3("velocity", Vec3::Zero());
+      b.wall_temperature = item.maybe<double>("temperature");
+      if (b.wall_temperature && !(*b.wall_temperature > 0.0)) {
+        item.fail("temperature", fmt::format("must be > 0 K, got {}", *b.wall_temperature));
+      }
+    }
     const auto [it, inserted] = first_line.emplace(b.group, item.location("group").line);
     if (!inserted) {
       item.fail("group", fmt::format("group '{}' already has a boundary condition (line {}); "
@@ -290,6 +411,13 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
     }
     item.finish();
     fluid.boundaries.push_back(std::move(b));
+  }
+  if (auto m = node.optional_child("mesh_motion")) {
+    FluidMeshMotion motion;
+    motion.where = m->location();
+    motion.displacement = read_space_time_vector(*m, "displacement");
+    m->finish();
+    fluid.mesh_motion = std::move(motion);
   }
   if (auto a = node.optional_child("analysis")) {
     FluidAnalysis analysis;
@@ -320,6 +448,10 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
       }
       r->finish();
       analysis.riemann = riemann;
+    }
+    if (auto i = a->optional_child("initial")) {
+      if (analysis.riemann) a->fail("initial", "give either 'riemann' or 'initial', not both");
+      analysis.initial = read_space_time_state(*i);
     }
     a->finish();
     fluid.analysis = analysis;
@@ -528,6 +660,24 @@ Case read_case(const YamlNode& root) {
       !c.time) {
     throw_at(c.fluid->analysis->where,
              "a transient flow analysis needs a 'time' section (end; the step follows from cfl)");
+  }
+  if (c.fluid && c.fluid->mesh_motion) {
+    if (c.motion) {
+      throw_at(c.fluid->mesh_motion->where,
+               "the fluid mesh is moved either by 'fluid.mesh_motion' (prescribed) or by the "
+               "'motion' section (space mesh), not both; remove one");
+    }
+    for (const FluidBoundary& b : c.fluid->boundaries) {
+      if (b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity != Vec3::Zero()) {
+        throw_at(b.where, "on a moving mesh a no-slip wall moves with the mesh; remove its "
+                          "'velocity' or the 'mesh_motion'");
+      }
+    }
+    if (c.fluid->analysis && c.fluid->analysis->type == FluidAnalysisType::steady) {
+      throw_at(c.fluid->mesh_motion->where,
+               "a steady (local time stepping) analysis needs a fixed mesh; use type: transient "
+               "or remove 'mesh_motion'");
+    }
   }
   {
     int solvers = (c.motion ? 1 : 0) + (c.shell && c.shell->analysis ? 1 : 0) +

@@ -12,6 +12,7 @@
 // Adding a section (a later module's parameters): add a struct and an
 // `std::optional<Section>` member to Case, read it in case.cpp with a `read_<section>()` that
 // uses YamlNode and ends with `finish()`, and document it in docs/case-format.md.
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -20,6 +21,7 @@
 #include <string_view>
 #include <vector>
 
+#include "shellflow/core/expression.h"
 #include "shellflow/core/time_function.h"
 #include "shellflow/core/types.h"
 #include "shellflow/io/yaml_reader.h"
@@ -88,11 +90,28 @@ struct ShellLoad {
 
 enum class ShellAnalysisType { static_load, dynamic };
 
+/// How a static analysis follows the equilibrium path.
+enum class PathControl {
+  load,          ///< equal load increments
+  displacement,  ///< equal increments of one displacement component (through load limits)
+  arc_length,    ///< Crisfield's cylindrical arc length (through load and displacement limits)
+};
+enum class TimeScheme { newmark, midpoint };
+
 struct ShellAnalysis {
   ShellAnalysisType type = ShellAnalysisType::static_load;
-  int steps = 10;                ///< static: load increments to load factor 1
+  int steps = 10;                ///< static: increments (arc length: at most this many)
+  PathControl control = PathControl::load;
+  /// control: displacement: the controlled component of a node or of a group's mean.
+  std::string controlled_group;
+  Index controlled_node = -1;
+  int controlled_component = 2;  ///< 0, 1, 2 = x, y, z
+  double final_displacement = 0.0;       ///< [m] displacement control: value at the last step
+  double initial_load_increment = 0.1;   ///< arc length: first load-factor increment
+  double final_load_factor = 1.0;        ///< arc length: stop once reached
   TimeFunction load_function = TimeFunction::constant(1.0);  ///< dynamic: load factor(t)
   double mass_damping = 0.0;     ///< dynamic: c_m in C = c_m M [1/s]
+  TimeScheme scheme = TimeScheme::newmark;  ///< dynamic
   SourceLocation where;
 };
 
@@ -106,9 +125,21 @@ struct ShellSection {
 
 // ---- fluid ------------------------------------------------------------------------------------
 
+enum class ViscosityLaw { none, constant, sutherland };
+
+/// Dynamic viscosity mu(T) and heat conduction k = mu c_p / Pr (Navier–Stokes runs).
+struct Viscosity {
+  ViscosityLaw law = ViscosityLaw::none;  ///< none: inviscid (Euler)
+  double mu_ref = 1.716e-5;               ///< [Pa s] mu (constant) or mu at t_ref (Sutherland)
+  double t_ref = 273.15;                  ///< [K]
+  double sutherland = 110.4;              ///< Sutherland's constant S [K]
+  double prandtl = 0.72;
+};
+
 struct Gas {
   double gamma = 1.4;            ///< ratio of specific heats [-], > 1
   double gas_constant = 287.05;  ///< R [J/(kg K)], > 0
+  Viscosity viscosity;
 };
 
 struct FreeStream {
@@ -127,10 +158,51 @@ enum class FluidBoundaryType {
   symmetry
 };
 
+/// A scalar field written in a case file as a number or as an expression (expression.h) of
+/// the node's initial coordinates x, y, z [m] and the time t [s].
+class SpaceTimeScalar {
+ public:
+  SpaceTimeScalar() = default;
+  explicit SpaceTimeScalar(Expression expression) : expression_(std::move(expression)) {}
+  double operator()(const Vec3& X, double t) const {
+    const double point[4] = {X.x(), X.y(), X.z(), t};
+    return expression_.value(point);
+  }
+  /// Partial derivative with respect to t (exact: automatic differentiation).
+  double time_derivative(const Vec3& X, double t) const {
+    const double point[4] = {X.x(), X.y(), X.z(), t};
+    return expression_.evaluate(point, 3).derivative;
+  }
+  const Expression& expression() const { return expression_; }
+
+ private:
+  Expression expression_;
+};
+
+/// A gas state varying in space and time: density, velocity, pressure.
+struct SpaceTimeState {
+  SpaceTimeScalar density;
+  std::array<SpaceTimeScalar, 3> velocity;
+  SpaceTimeScalar pressure;
+  SourceLocation where;
+};
+
 struct FluidBoundary {
   std::string group;  ///< physical group of the fluid mesh
   FluidBoundaryType type = FluidBoundaryType::slip_wall;
+  /// Inflow / far-field state; absent: the free stream.
+  std::optional<SpaceTimeState> state;
+  Vec3 wall_velocity = Vec3::Zero();   ///< no-slip walls [m/s] (on a moving mesh: the mesh's)
+  std::optional<double> wall_temperature;  ///< no-slip walls [K]; absent: adiabatic
   SourceLocation where;  ///< the list item `fluid.boundaries[i]`
+};
+
+/// A prescribed motion of every fluid node: x = X + d(X, t). The mesh velocity of a step is
+/// (x^{n+1} - x^n) / dt, the choice that keeps a uniform flow exactly uniform; slip walls on
+/// a moving mesh move with the mesh.
+struct FluidMeshMotion {
+  std::array<SpaceTimeScalar, 3> displacement;
+  SourceLocation where;
 };
 
 /// A gas state given by density, velocity and pressure.
@@ -155,7 +227,8 @@ struct FluidAnalysis {
   int steps = 1000;                    ///< steady: local time steps
   double q_dif = 0.0;                  ///< artificial viscosity coefficient (paper eq. 28)
   int consistent_mass_iterations = 0;  ///< 0: lumped mass
-  std::optional<RiemannInitial> riemann;  ///< initial state; absent: the free stream
+  std::optional<RiemannInitial> riemann;  ///< initial state; absent: `initial` or the free stream
+  std::optional<SpaceTimeState> initial;  ///< initial state as fields of x, y, z (t = 0)
   SourceLocation where;
 };
 
@@ -163,6 +236,7 @@ struct FluidSection {
   Gas gas;
   FreeStream free_stream;
   std::vector<FluidBoundary> boundaries;
+  std::optional<FluidMeshMotion> mesh_motion;  ///< absent: the mesh stays
   std::optional<FluidAnalysis> analysis;  ///< absent: the flow is not solved
 };
 

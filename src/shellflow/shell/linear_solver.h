@@ -9,20 +9,45 @@
 
 namespace shellflow::shell {
 
-/// Sparse solve of the Newton system with supports eliminated by replacing their rows and
-/// columns with the identity (keeps the pattern and the symmetry). LDLT for symmetric
-/// systems (measured 2-3x faster than SparseLU on the strip), SparseLU for non-symmetric ones
-/// (follower pressure). The ordering is analysed once.
+/// Sparse solve of the Newton system with the supports eliminated. Symmetric systems are
+/// factorised with LDLT on the reduced system (free dofs only), ordered once by AMD on the
+/// graph of the nodes (7x7 blocks) and copied into a pre-permuted upper triangle through a
+/// precomputed value map: the factorisation then does no fill or work for fixed dofs and
+/// Eigen does not permute the matrix again at every factorisation. Non-symmetric systems
+/// (follower pressure) use SparseLU on the full matrix.
 class NewtonLinearSolver {
  public:
-  /// Zeroes constrained rows/columns of K (diagonal kept) and of rhs, factorises and solves
-  /// K du = rhs in place of rhs. Returns false when the factorisation fails.
+  /// Zeroes constrained rows/columns of K (diagonal kept, a non-positive one set to 1) and
+  /// the constrained entries of rhs, factorises and solves K du = rhs in place of rhs
+  /// (constrained entries of du are 0). Returns false when the factorisation fails. The
+  /// ordering is analysed again only when the pattern of K or the constraints change.
   bool solve(SparseMatrix& K, const std::vector<char>& constrained, Eigen::VectorXd& rhs, bool symmetric = true);
 
+  /// The two halves of solve(K, ...): eliminate the supports from K and factorise it, then
+  /// solve with that factorisation for any number of right-hand sides (e.g. the two of a
+  /// bordered / arc-length system, or several modified-Newton iterations). solve(rhs)
+  /// zeroes the constrained entries of rhs itself; it returns false when no factorisation
+  /// succeeded before.
+  bool factorize(SparseMatrix& K, const std::vector<char>& constrained, bool symmetric = true);
+  bool solve(Eigen::VectorXd& rhs);
+
  private:
-  Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_;
+  void analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained);
+
+  using ReducedMatrix = SparseMatrix;
+  Eigen::SimplicialLDLT<ReducedMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt_;
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_;
-  bool analysed_ = false;
+  // Reduced, permuted system: reduced_(i, j) (upper triangle) = K.valuePtr()[source_[k]].
+  ReducedMatrix reduced_;
+  std::vector<int> source_;
+  std::vector<int> reduced_dof_;  ///< full dof -> position in the reduced system, -1 when fixed
+  std::vector<char> analysed_constraints_;
+  Eigen::Index analysed_nonzeros_ = -1;
+  Eigen::Index analysed_size_ = -1;
+  Eigen::VectorXd reduced_rhs_;
+  std::vector<char> constrained_;  ///< of the last factorisation
+  bool symmetric_ = true;
+  bool factorized_ = false;
   bool lu_analysed_ = false;
 };
 

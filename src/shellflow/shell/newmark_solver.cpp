@@ -1,5 +1,6 @@
 #include "shellflow/shell/newmark_solver.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "shellflow/core/error.h"
@@ -30,7 +31,9 @@ NewmarkSolver::NewmarkSolver(const ShellModel& model, NewmarkOptions options,
 void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
   u_ = u;
   v_ = v;
-  for (Index n = 0; n < model_.num_nodes(); ++n) v_(dofs_per_node * n + 6) = 0.0;
+  // Supported components do not move, and `a` has no velocity (§7).
+  for (std::size_t i = 0; i < inertial_fixed_.size(); ++i)
+    if (inertial_fixed_[i]) v_(static_cast<Eigen::Index>(i)) = 0.0;
   Eigen::VectorXd f_ext = load_factor_at(time_) * model_.reference_load();
   model_.add_follower_loads(u_, load_factor_at(time_), f_ext, nullptr);
   model_.assemble(u_, f_int_, nullptr);
@@ -42,7 +45,29 @@ void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::Vec
   a_ = rhs;
 }
 
+Vec3 NewmarkSolver::linear_momentum() const {
+  const Eigen::VectorXd Mv = M_ * v_;
+  Vec3 p = Vec3::Zero();
+  for (Index n = 0; n < model_.num_nodes(); ++n) p += Mv.segment<3>(dofs_per_node * n);
+  return p;
+}
+
+Vec3 NewmarkSolver::angular_momentum() const {
+  const Eigen::VectorXd Mv = M_ * v_;
+  Vec3 l = Vec3::Zero();
+  for (Index n = 0; n < model_.num_nodes(); ++n) {
+    const Vec3 x = model_.mesh().nodes[static_cast<std::size_t>(n)] + node_position_increment(u_, n);
+    const Vec3 G = model_.directors()[static_cast<std::size_t>(n)] + node_director_increment(u_, n);
+    l += x.cross(Vec3(Mv.segment<3>(dofs_per_node * n))) + G.cross(Vec3(Mv.segment<3>(dofs_per_node * n + 3)));
+  }
+  return l;
+}
+
 int NewmarkSolver::try_step(double dt) {
+  return options_.scheme == TimeScheme::midpoint ? try_midpoint_step(dt) : try_newmark_step(dt);
+}
+
+int NewmarkSolver::try_newmark_step(double dt) {
   const double beta = options_.beta, gamma = options_.gamma, cm = options_.mass_damping;
   const double t_next = time_ + dt;
   // Q_s and R_s of shell.md §7 in increments (the y0 terms cancel).
@@ -78,6 +103,54 @@ int NewmarkSolver::try_step(double dt) {
       for (Index n = 0; n < model_.num_nodes(); ++n) v_(dofs_per_node * n + 6) = a_(dofs_per_node * n + 6) = 0.0;
       u_ = u;
       time_ = t_next;
+      return it;
+    }
+  }
+  return -1;
+}
+
+int NewmarkSolver::try_midpoint_step(double dt) {
+  // Residual in the end state u = u_{n+1} (all rows, `a` included):
+  //   g = F_int(u_mid) - F_ext(t_mid, u_mid) + (2/dt²) M (u - u_n - dt v_n) + c_m M (u - u_n)/dt,
+  // i.e. (2/dt) × [M (v_{n+1} - v_n)/dt + C v_mid + F_int - F_ext], with u_mid = (u_n + u)/2.
+  // The `a` rows carry no mass, so they say F_int,a(u_mid) = 0: `a` is in equilibrium with
+  // x, G at the midpoint, where the forces act, and a_{n+1} = 2 a_mid - a_n follows the
+  // straight path of the other dofs (exact for the linear relation a(x, G) of small strains).
+  // That keeps the discrete energy balance T_{n+1} + U(u_{n+1}) - T_n - U(u_n) = midpoint
+  // quadrature error of ∫F·du along the step, zero for a quadratic U.
+  const double cm = options_.mass_damping;
+  const double t_mid = time_ + 0.5 * dt;
+  const double mass_coefficient = 2.0 / (dt * dt) + cm / dt;
+  const Eigen::VectorXd Mv = M_ * v_;
+  const auto& fixed = model_.constrained();
+  const double lf = load_factor_at(t_mid);
+
+  Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a` and supports)
+  for (int it = 1; it <= options_.newton.max_iterations; ++it) {
+    const Eigen::VectorXd u_mid = 0.5 * (u_ + u);
+    if (!model_.assemble(u_mid, f_int_, &K_)) return -1;
+    Eigen::VectorXd f_ext = lf * model_.reference_load();
+    model_.add_follower_loads(u_mid, lf, f_ext, &K_);
+    const Eigen::VectorXd M_du = M_ * (u - u_);
+    const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
+    const Eigen::VectorXd g = f_int_ - f_ext + M_acceleration + (cm / dt) * M_du;
+    // H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M, on the common pattern.
+    double* h = K_.valuePtr();
+    const double* m = M_.valuePtr();
+    for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] = 0.5 * h[i] + mass_coefficient * m[i];
+    const double force_scale =
+        std::max({free_norm(f_ext, fixed), free_norm(f_int_, fixed), free_norm(M_acceleration, fixed)});
+    Eigen::VectorXd du = -g;
+    if (!linear_solver_.solve(K_, fixed, du, model_.symmetric_tangent())) return -1;
+    u += du;
+    if (!u.allFinite()) return -1;
+    if (newton_converged(model_, options_.newton, du, g, force_scale)) {
+      Eigen::VectorXd v_next = (2.0 / dt) * (u - u_) - v_;
+      for (Index n = 0; n < model_.num_nodes(); ++n) v_next(dofs_per_node * n + 6) = 0.0;
+      a_ = (v_next - v_) / dt;
+      v_ = std::move(v_next);
+      u_ = u;
+      time_ += dt;
       return it;
     }
   }

@@ -1,14 +1,28 @@
 #pragma once
-// Dynamics: Newmark (beta = 1/4, gamma = 1/2 by default) in the positional form of shell.md
-// §7, written in the increments u = y - y0, with Newton in every step (§8), mass-
-// proportional damping C = c_m M, and step halving on failure.
+// Dynamics in the positional form of shell.md §7, written in the increments u = y - y0, with
+// Newton in every step (§8), mass-proportional damping C = c_m M and step halving on
+// failure. Two one-step schemes: Newmark (beta = 1/4, gamma = 1/2 by default) and the
+// implicit midpoint rule, which also conserves angular momentum (see TimeScheme).
 #include <functional>
 
 #include "shellflow/shell/static_solver.h"
 
 namespace shellflow::shell {
 
+enum class TimeScheme {
+  /// Newmark with `beta`, `gamma` (trapezoidal rule at 1/4, 1/2): conserves linear momentum
+  /// and, in the linear range, energy; angular momentum drifts as O(dt^2).
+  newmark,
+  /// Implicit midpoint rule: (y1 - y0)/dt = (v0 + v1)/2 and
+  /// M (v1 - v0)/dt = F_ext(t_mid, y_mid) - F_int(y_mid) - C v_mid with y_mid = (y0 + y1)/2.
+  /// Conserves linear and angular momentum exactly (constant M with isotropic 3x3 blocks,
+  /// objective F_int) and energy for quadratic energies (spec §7). Second order, no
+  /// numerical damping; ignores `beta`, `gamma`.
+  midpoint,
+};
+
 struct NewmarkOptions {
+  TimeScheme scheme = TimeScheme::newmark;
   double beta = 0.25;
   double gamma = 0.5;
   double mass_damping = 0.0;  ///< c_m in C = c_m M (1/s)
@@ -22,7 +36,9 @@ class NewmarkSolver {
                 std::function<double(double)> load_factor = {});
 
   /// Sets the initial state (u, v at the current time; u = 0 at rest) and computes the
-  /// consistent acceleration from M a = F_ext - F_int - C v on the x and G rows.
+  /// consistent acceleration from M a = F_ext - F_int - C v on the x and G rows. The `a`
+  /// entries of u should be in equilibrium with its x and G (true at rest, for a mode or a
+  /// static solution): the midpoint scheme carries them as given.
   void set_initial_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
   /// Advances by dt (sub-stepping by halves on failure, up to newton.max_cutbacks levels).
   /// Returns the Newton iterations used. Throws SolverError naming the time on failure.
@@ -31,14 +47,26 @@ class NewmarkSolver {
   double time() const { return time_; }
   const Eigen::VectorXd& displacement() const { return u_; }
   const Eigen::VectorXd& velocity() const { return v_; }
+  /// Newmark: the acceleration at time(); midpoint: the mean acceleration (v1 - v0)/dt of
+  /// the last step (the value at its midpoint; second-order accurate there).
   const Eigen::VectorXd& acceleration() const { return a_; }
   double kinetic_energy() const { return 0.5 * v_.dot(M_ * v_); }
   double strain_energy() const { return model_.strain_energy(u_); }
+  /// Linear momentum ∫ρ0 v dV0 (shell.md §6 kinematics): with Σφ_k = 1 it is the sum of
+  /// M v over the x rows of every node.
+  Vec3 linear_momentum() const;
+  /// Angular momentum about the origin ∫ρ0 x × v dV0 with x = x̂ + (ĥ/2) ξ3 ĝ (the map of
+  /// the kinetic energy, §6): Σ_j x_j × (M v)_xj + G_j × (M v)_Gj, because every block of M
+  /// is a multiple of the identity.
+  Vec3 angular_momentum() const;
   const SparseMatrix& mass() const { return M_; }
+  const NewmarkOptions& options() const { return options_; }
 
  private:
-  /// One Newmark step of size dt; -1 (state unchanged) when Newton fails.
+  /// One step of size dt; -1 (state unchanged) when Newton fails.
   int try_step(double dt);
+  int try_newmark_step(double dt);
+  int try_midpoint_step(double dt);
   double load_factor_at(double t) const { return load_factor_ ? load_factor_(t) : 0.0; }
 
   const ShellModel& model_;

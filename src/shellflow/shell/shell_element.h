@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Dense>
@@ -334,8 +335,15 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
       LM.row(0) = s_lambda * (M.row(0) + M.row(1) + M.row(2));
       LM.template middleRows<3>(1) = s_2mu * M.template topRows<3>();
       LM.template bottomRows<3>(3) = s_mu * M.template bottomRows<3>();
+      // Only the lower block triangle (type blocks s <= t) is read below: block row t
+      // needs columns 0 .. 3t+2 (43 % fewer products than the full 21x21).
       // (coefficient-based product: Eigen's blocked GEMM costs more in packing at this size)
-      Z.noalias() += (dV * LM.transpose()).lazyProduct(LM);
+      const Eigen::Matrix<double, 7, nz> LMw = dV * LM;
+      [&]<int... T>(std::integer_sequence<int, T...>) {
+        ((Z.template block<3, 3 * T + 3>(3 * T, 0).noalias() +=
+          LMw.template middleCols<3>(3 * T).transpose().lazyProduct(LM.template leftCols<3 * T + 3>())),
+         ...);
+      }(std::make_integer_sequence<int, dofs_per_node>{});
 
       // Initial-stress part of x/G: delta_ii' w_r^T S w_s (node vectors).
       const Eigen::Matrix<double, 6, 6> P = dV * (Wb.transpose() * (S * Wb));

@@ -10,6 +10,7 @@
 
 #include <Eigen/Sparse>
 
+#include "shellflow/core/time_function.h"
 #include "shellflow/fem/shape_functions.h"
 #include "shellflow/mesh/mesh.h"
 #include "shellflow/shell/material.h"
@@ -45,6 +46,42 @@ struct Support {
   /// Roller: only the position component along `free_axis` is free; the director is fixed
   /// (clamped-sliding) or free.
   static Support sliding(std::string group, int free_axis, bool clamp_director);
+};
+
+/// A support along arbitrary unit directions (shell.md §10): the increments of the nodal
+/// position along `position_directions` and of the director along `director_directions`
+/// are zero on every node of the group. Directions that are not global axes are handled by
+/// a local orthonormal basis T per node (the model's to_local / to_global).
+struct DirectionalSupport {
+  std::string group;
+  std::vector<Vec3> position_directions;
+  std::vector<Vec3> director_directions;
+
+  /// Symmetry plane with unit normal n (any direction): x·n = X·n and G·n = 0.
+  static DirectionalSupport symmetry_plane(std::string group, const Vec3& normal);
+  /// Roller along d: the position moves only along d; the director is fixed
+  /// (clamped-sliding) or free.
+  static DirectionalSupport roller(std::string group, const Vec3& direction, bool clamp_director);
+};
+
+/// Prescribed motion of a group (shell.md §10): x(t) = X + f(t) d, and, when `rotation_axis`
+/// is not zero, G(t) = R(g(t)) V with R the rotation by the angle g(t) (radians) about
+/// `rotation_axis` (directors are free vectors: only the axis direction matters). The
+/// position (and director) of the group's nodes become fixed dofs whose values the solver
+/// sets with ShellModel::apply_prescribed before each step.
+struct PrescribedMotion {
+  std::string group;
+  Vec3 displacement = Vec3::Zero();   ///< d
+  TimeFunction displacement_history = TimeFunction::constant(1.0);  ///< f(t)
+  Vec3 rotation_axis = Vec3::Zero();  ///< zero: the director is left free
+  TimeFunction rotation_angle = TimeFunction::constant(0.0);        ///< g(t)
+};
+
+/// Dead traction per reference area on a surface group of the shell mesh (empty: the whole
+/// shell), F_x^j = ∫ φ_j t dA0 (shell.md §11).
+struct SurfaceTraction {
+  std::string group;
+  Vec3 traction = Vec3::Zero();
 };
 
 /// Dead line load per reference length on the edges of a physical group of lines.
@@ -99,7 +136,22 @@ class ShellModel {
   /// Bounding-box diagonal of the mid-surface (length scale of the convergence test).
   double reference_length() const { return reference_length_; }
 
+  /// Axis-aligned support (components in global axes). Throws InputError naming the
+  /// group, the mesh and the groups available when the group is missing.
   void add_support(const Support& support);
+  /// Support along arbitrary directions; throws InputError for a zero or non-finite
+  /// direction.
+  void add_support(const DirectionalSupport& support);
+  /// Hard simple support on a group of lines: position fixed and G·t = 0 along the edge
+  /// tangent t at each node (at a corner of the group, along both tangents).
+  void add_hard_simple_support(const std::string& group);
+  /// Prescribed motion of a group; see PrescribedMotion.
+  void add_prescribed_motion(const PrescribedMotion& motion);
+  /// Writes the prescribed increments at time t into u (x rows: f(t) d; G rows:
+  /// R(g(t)) V − V), leaving every other dof as it is. No-op without prescribed motions.
+  void apply_prescribed(double t, Eigen::VectorXd& u) const;
+  bool has_prescribed_motion() const { return !prescribed_.empty(); }
+  void add_surface_traction(const SurfaceTraction& traction);
   void add_line_load(const LineLoad& load);
   void add_point_load(const PointLoad& load);
   void add_edge_couple(const EdgeCouple& couple);
@@ -108,8 +160,20 @@ class ShellModel {
   /// (Σ φ_k = 1 makes this ∫ρ φ_j b dV0 on x and ∫ρ φ_j (h/2) ξ3 b dV0 on G).
   void add_gravity(const Vec3& acceleration);
 
-  /// Per dof: 1 when a support fixes it.
+  /// Per dof: 1 when a support fixes it. For a node with a local basis (has_local_frames),
+  /// the flags of its position / director rows refer to the local components.
   const std::vector<char>& constrained() const { return constrained_; }
+
+  /// Local bases of supports along non-axis directions (shell.md §10). A solver that
+  /// supports them brings the Newton system to local components before applying
+  /// constrained() and the correction back after solving:
+  ///   model.to_local(K); model.to_local(rhs);  solve;  model.to_global(du);
+  /// (K: Tᵀ K T, in place on a matrix with the pattern of make_matrix; vectors: Tᵀ v;
+  /// to_global: T v). All three are no-ops when no node has a rotated basis.
+  bool has_local_frames() const { return !frames_.empty(); }
+  void to_local(SparseMatrix& K) const;
+  void to_local(Eigen::VectorXd& v) const;
+  void to_global(Eigen::VectorXd& v) const;
   /// Dead external force at load factor 1.
   const Eigen::VectorXd& reference_load() const { return reference_load_; }
   /// Adds the edge couples and follower pressures at load factor `load_factor` to `force`
@@ -153,6 +217,18 @@ class ShellModel {
   /// of column 7*node_b + c (rows of a node are 7 consecutive entries).
   std::vector<int> offsets_;
   std::vector<char> constrained_;
+  /// Fixes the increment of 3-vector `part` (0: position, 1: director) of a node along
+  /// the unit direction d (ignored when already fixed) and updates the node's basis.
+  void fix_direction(Index node, int part, const Vec3& d);
+  /// Per (node, part): projector on the fixed directions.
+  std::vector<Mat3> fixed_projector_;
+  /// Rotated 3-vectors: (first dof, T with the fixed directions first).
+  std::vector<std::pair<Index, Mat3>> frames_;
+  /// Per (node, part): index in frames_, or -1 (global axes).
+  std::vector<int> frame_index_;
+  std::vector<PrescribedMotion> prescribed_;
+  /// Per prescribed motion: its nodes.
+  std::vector<std::vector<Index>> prescribed_nodes_;
   Eigen::VectorXd reference_load_;
   std::vector<EdgeCouple> edge_couples_;
   /// Per edge couple: nodes and their nodal couple weights m_j / m = ∫ phi_j ds0.

@@ -1,7 +1,9 @@
 #include "shellflow/shell/static_solver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "shellflow/core/error.h"
 
@@ -14,6 +16,16 @@ double free_norm(const Eigen::VectorXd& v, const std::vector<char>& constrained)
   for (Eigen::Index i = 0; i < v.size(); ++i)
     if (!constrained[static_cast<std::size_t>(i)]) s += v(i) * v(i);
   return std::sqrt(s);
+}
+
+/// Force scale of the §8 residual test: max(‖F_ext‖, ‖F_int‖) on the free dofs, and also
+/// the reactions (F_int on the fixed dofs) — without them a problem driven only by
+/// prescribed support displacements has a zero scale at equilibrium and never converges.
+double force_scale_of(const Eigen::VectorXd& f_ext, const Eigen::VectorXd& f_int, const std::vector<char>& constrained) {
+  double reactions = 0.0;
+  for (Eigen::Index i = 0; i < f_int.size(); ++i)
+    if (constrained[static_cast<std::size_t>(i)]) reactions += f_int(i) * f_int(i);
+  return std::max({free_norm(f_ext, constrained), free_norm(f_int, constrained), std::sqrt(reactions)});
 }
 
 }  // namespace
@@ -45,7 +57,7 @@ int StaticSolver::solve(double load_factor) {
     f_ext = load_factor * model_.reference_load();
     model_.add_follower_loads(u_, load_factor, f_ext, &K_);
     Eigen::VectorXd rhs = f_ext - f_int_;  // -g
-    const double force_scale = std::max(free_norm(f_ext, fixed), free_norm(f_int_, fixed));
+    const double force_scale = force_scale_of(f_ext, f_int_, fixed);
     const Eigen::VectorXd residual = -rhs;
     if (!linear_solver_.solve(K_, fixed, rhs, model_.symmetric_tangent())) break;
     u_ += rhs;
@@ -86,8 +98,256 @@ std::vector<LoadStep> StaticSolver::run(int num_steps, double final_load_factor,
       iterations += its;
       cutbacks = 0;
     }
-    steps.push_back({load_factor_, iterations});
+    steps.push_back({load_factor_, iterations, 0.0});
     if (on_step) on_step(steps.back());
+  }
+  return steps;
+}
+
+void StaticSolver::set_state(const Eigen::VectorXd& u, double load_factor) {
+  if (u.size() != model_.num_dofs())
+    throw InputError(fmt::format("shell statics: state has {} entries, the model has {} dofs", u.size(),
+                                 model_.num_dofs()));
+  u_ = u;
+  load_factor_ = load_factor;
+  last_increment_.resize(0);
+}
+
+Eigen::VectorXd StaticSolver::load_direction() const {
+  Eigen::VectorXd q = model_.reference_load();
+  model_.add_follower_loads(u_, 1.0, q, nullptr);  // follower loads are linear in λ
+  return q;
+}
+
+double StaticSolver::relative_residual() const {
+  Eigen::VectorXd f_int;
+  if (!model_.assemble(u_, f_int, nullptr)) return std::numeric_limits<double>::infinity();
+  Eigen::VectorXd f_ext = load_factor_ * model_.reference_load();
+  model_.add_follower_loads(u_, load_factor_, f_ext, nullptr);
+  const auto& fixed = model_.constrained();
+  const double scale = force_scale_of(f_ext, f_int, fixed);
+  return free_norm(f_int - f_ext, fixed) / std::max(scale, std::numeric_limits<double>::min());
+}
+
+bool StaticSolver::assemble_system(double load_factor, Eigen::VectorXd& residual, Eigen::VectorXd& direction,
+                                   double& force_scale) {
+  if (!model_.assemble(u_, f_int_, &K_)) return false;
+  Eigen::VectorXd f_ext = load_factor * model_.reference_load();
+  model_.add_follower_loads(u_, load_factor, f_ext, &K_);
+  direction = load_direction();
+  residual = f_int_ - f_ext;
+  const auto& fixed = model_.constrained();
+  force_scale = force_scale_of(f_ext, f_int_, fixed);
+  return residual.allFinite();
+}
+
+bool StaticSolver::solve_pair(Eigen::VectorXd& minus_g_then_du_r, Eigen::VectorXd& q_then_du_t) {
+  // Two solves with one matrix; the second repeats the factorisation because
+  // NewtonLinearSolver has no separate factorise/solve step.
+  const auto& fixed = model_.constrained();
+  return linear_solver_.solve(K_, fixed, minus_g_then_du_r, model_.symmetric_tangent()) &&
+         linear_solver_.solve(K_, fixed, q_then_du_t, model_.symmetric_tangent());
+}
+
+double StaticSolver::position_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
+  const auto& fixed = model_.constrained();
+  double s = 0.0;
+  for (Index n = 0; n < model_.num_nodes(); ++n)
+    for (Index i = dofs_per_node * n; i < dofs_per_node * n + 3; ++i)
+      if (!fixed[static_cast<std::size_t>(i)]) s += a(i) * b(i);
+  return s;
+}
+
+Eigen::VectorXd StaticSolver::control_weights(const ControlledDisplacement& control) const {
+  if (control.component < 0 || control.component > 2)
+    throw InputError(fmt::format("displacement control: component {} is not a global axis; use 0 (x), 1 (y) or 2 (z)",
+                                 control.component));
+  Eigen::VectorXd w = Eigen::VectorXd::Zero(model_.num_dofs());
+  if (control.node >= 0) {
+    if (control.node >= model_.num_nodes())
+      throw InputError(fmt::format("displacement control: node {} does not exist (the mesh has {} nodes)",
+                                   control.node, model_.num_nodes()));
+    w(dofs_per_node * control.node + control.component) = 1.0;
+  } else {
+    const auto& nodes = model_.mesh().group(control.group).nodes;
+    if (nodes.empty())
+      throw InputError(fmt::format("displacement control: group '{}' has no nodes", control.group));
+    for (Index n : nodes) w(dofs_per_node * n + control.component) = 1.0 / static_cast<double>(nodes.size());
+  }
+  const auto& fixed = model_.constrained();
+  bool any_free = false;
+  for (Eigen::Index i = 0; i < w.size(); ++i) any_free = any_free || (w(i) != 0.0 && !fixed[static_cast<std::size_t>(i)]);
+  if (!any_free)
+    throw InputError(fmt::format("displacement control: component {} of {} is fixed by a support; control a free "
+                                 "displacement",
+                                 control.component,
+                                 control.node >= 0 ? fmt::format("node {}", control.node)
+                                                   : fmt::format("group '{}'", control.group)));
+  return w;
+}
+
+double StaticSolver::controlled_displacement(const ControlledDisplacement& control) const {
+  return control_weights(control).dot(u_);
+}
+
+int StaticSolver::solve_displacement(const ControlledDisplacement& control, double value) {
+  const Eigen::VectorXd w = control_weights(control);
+  const Eigen::VectorXd u_start = u_;
+  const double load_start = load_factor_;
+  Eigen::VectorXd g, q;
+  double force_scale = 0.0;
+  for (int it = 1; it <= options_.max_iterations; ++it) {
+    if (!assemble_system(load_factor_, g, q, force_scale)) break;
+    Eigen::VectorXd du_r = -g;
+    if (!solve_pair(du_r, q)) break;
+    // Bordered solve of [K -q; wᵀ 0] [δu; δλ] = [-g; value - wᵀu].
+    const double w_t = w.dot(q);
+    if (!(std::abs(w_t) > 0.0)) break;  // the control does not move with the load
+    const double d_load = (value - w.dot(u_ + du_r)) / w_t;
+    const Eigen::VectorXd du = du_r + d_load * q;
+    if (!du.allFinite()) break;
+    const bool converged = newton_converged(model_, options_, du, g, force_scale);
+    u_ += du;
+    load_factor_ += d_load;
+    if (converged) return it;
+  }
+  u_ = u_start;
+  load_factor_ = load_start;
+  return -1;
+}
+
+std::vector<LoadStep> StaticSolver::run_displacement_control(const ControlledDisplacement& control, int num_steps,
+                                                             double final_value,
+                                                             const std::function<void(const LoadStep&)>& on_step) {
+  std::vector<LoadStep> steps;
+  double current = controlled_displacement(control);
+  const double start = current;
+  for (int s = 1; s <= num_steps; ++s) {
+    const double target = start + (final_value - start) * s / num_steps;
+    double increment = target - current;
+    int cutbacks = 0;
+    int iterations = 0;
+    while (current != target) {
+      const double next = std::abs(target - current) <= std::abs(increment) ? target : current + increment;
+      const int its = solve_displacement(control, next);
+      if (its < 0) {
+        if (++cutbacks > options_.max_cutbacks)
+          throw SolverError(fmt::format(
+              "shell statics: displacement control did not converge at controlled displacement {:.6g} (step {} of "
+              "{}, load factor {:.6g}) after {} cut-backs; use more steps, or the arc-length method past a "
+              "displacement limit point",
+              next, s, num_steps, load_factor_, options_.max_cutbacks));
+        increment *= 0.5;
+        continue;
+      }
+      iterations += its;
+      cutbacks = 0;
+      current = next;
+    }
+    steps.push_back({load_factor_, iterations, 0.0});
+    if (on_step) on_step(steps.back());
+  }
+  return steps;
+}
+
+int StaticSolver::arc_length_step(double arc_length, double direction_sign) {
+  const Eigen::VectorXd u_start = u_;
+  const double load_start = load_factor_;
+  const auto fail = [&] {
+    u_ = u_start;
+    load_factor_ = load_start;
+    return -1;
+  };
+  Eigen::VectorXd g, q;
+  double force_scale = 0.0;
+  // Predictor along the tangent K δu_t = q, ‖Δx‖ = Δl. Its sign follows the previous step's
+  // increment (positive work along the path), so the path does not double back at a limit
+  // point where the sign of λ̇ changes.
+  if (!assemble_system(load_factor_, g, q, force_scale)) return fail();
+  if (!linear_solver_.solve(K_, model_.constrained(), q, model_.symmetric_tangent())) return fail();
+  const double t_norm = std::sqrt(position_dot(q, q));
+  if (!(t_norm > 0.0)) return fail();
+  double sign = direction_sign;
+  if (last_increment_.size() == u_.size()) {
+    const double turn = position_dot(last_increment_, q);
+    if (turn != 0.0) sign = turn > 0.0 ? 1.0 : -1.0;
+  }
+  const double d_load_predictor = sign * arc_length / t_norm;
+  Eigen::VectorXd du_step = d_load_predictor * q;
+  u_ += du_step;
+  load_factor_ += d_load_predictor;
+  for (int it = 1; it <= options_.max_iterations; ++it) {
+    if (!assemble_system(load_factor_, g, q, force_scale)) return fail();
+    Eigen::VectorXd du_r = -g;
+    if (!solve_pair(du_r, q)) return fail();
+    // ‖Δu + δu_r + δλ δu_t‖² = Δl² over positions: a1 δλ² + a2 δλ + a3 = 0.
+    const Eigen::VectorXd base = du_step + du_r;
+    const double a1 = position_dot(q, q), a2 = 2.0 * position_dot(q, base),
+                 a3 = position_dot(base, base) - arc_length * arc_length;
+    const double discriminant = a2 * a2 - 4.0 * a1 * a3;
+    if (!(a1 > 0.0) || !(discriminant >= 0.0)) return fail();
+    const double root = std::sqrt(discriminant);
+    // Stable roots (no cancellation), then the one whose new increment is closest in
+    // direction to the current one (Crisfield's choice; the other one turns back).
+    const double qroot = -0.5 * (a2 + (a2 >= 0.0 ? root : -root));
+    const double r1 = qroot / a1, r2 = qroot != 0.0 ? a3 / qroot : -r1;
+    const double base_dot = position_dot(du_step, base), q_dot = position_dot(du_step, q);
+    const double d_load = base_dot + r1 * q_dot >= base_dot + r2 * q_dot ? r1 : r2;
+    const Eigen::VectorXd du = du_r + d_load * q;
+    if (!du.allFinite()) return fail();
+    const bool converged = newton_converged(model_, options_, du, g, force_scale);
+    u_ += du;
+    load_factor_ += d_load;
+    du_step += du;
+    if (converged) {
+      last_increment_ = du_step;
+      return it;
+    }
+  }
+  return fail();
+}
+
+std::vector<LoadStep> StaticSolver::run_arc_length(int max_steps, const ArcLengthOptions& options,
+                                                   const PathCallback& on_step) {
+  if (!(options.initial_load_increment != 0.0) || options.desired_iterations < 1 || !(options.max_growth >= 1.0) ||
+      !(options.max_shrink >= 1.0))
+    throw InputError(fmt::format("arc-length method: need a non-zero initial load increment (got {}), "
+                                 "desired_iterations >= 1 (got {}), max_growth >= 1 and max_shrink >= 1 (got {}, {})",
+                                 options.initial_load_increment, options.desired_iterations, options.max_growth,
+                                 options.max_shrink));
+  const double first_sign = options.initial_load_increment > 0.0 ? 1.0 : -1.0;
+  if (arc_length_ <= 0.0) {
+    // Δl of the first step: the tangent displacement of the initial load increment.
+    Eigen::VectorXd g, q;
+    double force_scale = 0.0;
+    if (!assemble_system(load_factor_, g, q, force_scale))
+      throw SolverError("arc-length method: the start state is not admissible (det A <= 0)");
+    if (!linear_solver_.solve(K_, model_.constrained(), q, model_.symmetric_tangent()))
+      throw SolverError("arc-length method: the tangent at the start state is singular");
+    initial_arc_length_ = std::abs(options.initial_load_increment) * std::sqrt(position_dot(q, q));
+    if (!(initial_arc_length_ > 0.0))
+      throw InputError("arc-length method: the loads move no free position dof; check loads and supports");
+    arc_length_ = initial_arc_length_;
+  }
+  const double max_arc = initial_arc_length_ * options.max_growth, min_arc = initial_arc_length_ / options.max_shrink;
+  std::vector<LoadStep> steps;
+  for (int s = 1; s <= max_steps; ++s) {
+    int cutbacks = 0;
+    int its = arc_length_step(arc_length_, first_sign);
+    while (its < 0) {
+      if (++cutbacks > options_.max_cutbacks)
+        throw SolverError(fmt::format(
+            "shell statics: arc-length step {} from load factor {:.6g} did not converge after {} cut-backs (arc "
+            "length {:.3g}); use a smaller initial_load_increment or check supports and loads",
+            s, load_factor_, options_.max_cutbacks, arc_length_));
+      arc_length_ *= 0.5;
+      its = arc_length_step(arc_length_, first_sign);
+    }
+    steps.push_back({load_factor_, its, arc_length_});
+    // Next Δl from the effort of this step (Crisfield: Δl ∝ sqrt(desired / actual)).
+    const double scaled = arc_length_ * std::sqrt(static_cast<double>(options.desired_iterations) / its);
+    arc_length_ = cutbacks > 0 ? std::min(scaled, arc_length_) : std::clamp(scaled, min_arc, max_arc);
+    if (on_step && !on_step(steps.back())) break;
   }
   return steps;
 }

@@ -1,0 +1,486 @@
+#include "shellflow/core/expression.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+#include <type_traits>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow {
+namespace {
+
+using Op = Expression::Op;
+
+// ---- Plain values: the operations with semantics of their own ----------------------------
+
+// min, max and step propagate NaN (std::fmin would drop it) so that a bad value stays visible.
+double heaviside(double a) { return std::isnan(a) ? a : (a >= 0.0 ? 1.0 : 0.0); }
+double minimum(double a, double b) {
+  return (std::isnan(a) || std::isnan(b)) ? a + b : (b < a ? b : a);
+}
+double maximum(double a, double b) {
+  return (std::isnan(a) || std::isnan(b)) ? a + b : (b > a ? b : a);
+}
+
+// a^n by repeated squaring: t^2 is the most common power in a load function, and std::pow
+// costs several multiplications. Like std::pow, a^0 = 1 for every a.
+double integer_power(double a, int n) {
+  double result = 1.0, square = a;
+  for (unsigned m = static_cast<unsigned>(n < 0 ? -n : n); m != 0; m >>= 1) {
+    if ((m & 1u) != 0) result *= square;
+    square *= square;
+  }
+  return n < 0 ? 1.0 / result : result;
+}
+
+// ---- Dual numbers: value and derivative with respect to t --------------------------------
+
+struct Dual {
+  double v;  // value
+  double d;  // derivative
+};
+
+Dual operator-(const Dual& a) { return {-a.v, -a.d}; }
+Dual operator+(const Dual& a, const Dual& b) { return {a.v + b.v, a.d + b.d}; }
+Dual operator-(const Dual& a, const Dual& b) { return {a.v - b.v, a.d - b.d}; }
+Dual operator*(const Dual& a, const Dual& b) { return {a.v * b.v, a.d * b.v + a.v * b.d}; }
+Dual operator/(const Dual& a, const Dual& b) {
+  const double q = a.v / b.v;
+  return {q, (a.d - q * b.d) / b.v};
+}
+
+// f(a) with f'(a) = slope. A constant inner function contributes nothing even where f' is
+// infinite (sqrt(0 * t) at 0): 0 * inf would otherwise make the derivative NaN.
+Dual chain(double value, double slope, const Dual& a) {
+  return {value, a.d == 0.0 ? 0.0 : slope * a.d};
+}
+
+Dual sin(const Dual& a) { return chain(std::sin(a.v), std::cos(a.v), a); }
+Dual cos(const Dual& a) { return chain(std::cos(a.v), -std::sin(a.v), a); }
+Dual tan(const Dual& a) {
+  const double v = std::tan(a.v);
+  return chain(v, 1.0 + v * v, a);
+}
+Dual exp(const Dual& a) {
+  const double v = std::exp(a.v);
+  return chain(v, v, a);
+}
+Dual log(const Dual& a) { return chain(std::log(a.v), 1.0 / a.v, a); }
+Dual sqrt(const Dual& a) {
+  const double v = std::sqrt(a.v);
+  return chain(v, 0.5 / v, a);
+}
+// |a| has no derivative at a = 0; 0 is the mean of the one-sided slopes -1 and 1.
+Dual abs(const Dual& a) {
+  return chain(std::abs(a.v), a.v > 0.0 ? 1.0 : (a.v < 0.0 ? -1.0 : 0.0), a);
+}
+Dual tanh(const Dual& a) {
+  const double v = std::tanh(a.v);
+  return chain(v, 1.0 - v * v, a);
+}
+// The jump's derivative is a Dirac impulse, which no number can hold: 0 everywhere, as
+// TimeFunction::step.
+Dual heaviside(const Dual& a) { return {heaviside(a.v), 0.0}; }
+
+Dual pow(const Dual& a, const Dual& b) {
+  // d(a^b) = b a^(b-1) a' + a^b ln(a) b'. Each term only when its factor a' or b' is
+  // non-zero: t^2 at t < 0 must not meet ln(t), 2^t must not meet 0^(-1) at a = 0.
+  const double v = std::pow(a.v, b.v);
+  double d = 0.0;
+  if (a.d != 0.0) d += b.v * std::pow(a.v, b.v - 1.0) * a.d;
+  if (b.d != 0.0) d += v * std::log(a.v) * b.d;
+  return {v, d};
+}
+
+Dual integer_power(const Dual& a, int n) {
+  return chain(integer_power(a.v, n), n == 0 ? 0.0 : n * integer_power(a.v, n - 1), a);
+}
+
+// min(a, b) if `smaller`, else max(a, b). At a tie the one-sided slopes are a' and b'; their
+// mean is the symmetric choice.
+Dual select(const Dual& a, const Dual& b, bool smaller) {
+  const double v = smaller ? minimum(a.v, b.v) : maximum(a.v, b.v);
+  if (std::isnan(v)) return {v, v};
+  if (a.v == b.v) return {v, 0.5 * (a.d + b.d)};
+  return v == a.v ? a : b;
+}
+Dual minimum(const Dual& a, const Dual& b) { return select(a, b, true); }
+Dual maximum(const Dual& a, const Dual& b) { return select(a, b, false); }
+
+// atan2(y, x)' = (x y' - y x') / (x^2 + y^2).
+Dual atan2(const Dual& y, const Dual& x) {
+  const double v = std::atan2(y.v, x.v);
+  if (y.d == 0.0 && x.d == 0.0) return {v, 0.0};
+  return {v, (x.v * y.d - y.v * x.d) / (x.v * x.v + y.v * y.v)};
+}
+
+int arity(Op op) {
+  switch (op) {
+    case Op::constant:
+    case Op::variable: return 0;
+    case Op::add:
+    case Op::subtract:
+    case Op::multiply:
+    case Op::divide:
+    case Op::power:
+    case Op::min:
+    case Op::max:
+    case Op::atan2: return 2;
+    default: return 1;
+  }
+}
+
+template <class T>
+T make(double value, [[maybe_unused]] double derivative) {
+  if constexpr (std::is_same_v<T, Dual>) {
+    return Dual{value, derivative};
+  } else {
+    return value;
+  }
+}
+
+// The stack machine, for T = double (values) or Dual (values and the derivatives with respect
+// to variable number `seed`): one switch per instruction. `stack` has room for the deepest
+// point of `code`.
+template <class T>
+T run(const std::vector<Expression::Instruction>& code, std::span<const double> point,
+      int seed, T* stack) {
+  // std:: for double; for Dual, argument-dependent lookup finds the overloads above.
+  using std::sin, std::cos, std::tan, std::exp, std::log, std::sqrt, std::abs, std::tanh, std::pow,
+      std::atan2;
+  T* top = stack;  // one past the last operand
+  for (const Expression::Instruction& in : code) {
+    switch (in.op) {
+      case Op::constant: *top++ = make<T>(in.constant, 0.0); break;
+      case Op::variable:
+        *top++ = make<T>(point[static_cast<std::size_t>(in.index)], in.index == seed ? 1.0 : 0.0);
+        break;
+      case Op::negate: top[-1] = -top[-1]; break;
+      case Op::sin: top[-1] = sin(top[-1]); break;
+      case Op::cos: top[-1] = cos(top[-1]); break;
+      case Op::tan: top[-1] = tan(top[-1]); break;
+      case Op::exp: top[-1] = exp(top[-1]); break;
+      case Op::log: top[-1] = log(top[-1]); break;
+      case Op::sqrt: top[-1] = sqrt(top[-1]); break;
+      case Op::abs: top[-1] = abs(top[-1]); break;
+      case Op::tanh: top[-1] = tanh(top[-1]); break;
+      case Op::step: top[-1] = heaviside(top[-1]); break;
+      case Op::integer_power:
+        top[-1] = integer_power(top[-1], in.index);
+        break;
+      case Op::add: --top; top[-1] = top[-1] + top[0]; break;
+      case Op::subtract: --top; top[-1] = top[-1] - top[0]; break;
+      case Op::multiply: --top; top[-1] = top[-1] * top[0]; break;
+      case Op::divide: --top; top[-1] = top[-1] / top[0]; break;
+      case Op::power: --top; top[-1] = pow(top[-1], top[0]); break;
+      case Op::min: --top; top[-1] = minimum(top[-1], top[0]); break;
+      case Op::max: --top; top[-1] = maximum(top[-1], top[0]); break;
+      case Op::atan2: --top; top[-1] = atan2(top[-1], top[0]); break;
+    }
+  }
+  return stack[0];
+}
+
+template <class T>
+T run(const std::vector<Expression::Instruction>& code, int stack_size,
+      std::span<const double> point, int seed) {
+  constexpr int kInline = 32;  // nesting deeper than this is rare; it costs one allocation
+  if (stack_size <= kInline) {
+    std::array<T, kInline> stack;  // left uninitialised: every slot is written before it is read
+    return run<T>(code, point, seed, stack.data());
+  }
+  std::vector<T> stack(static_cast<std::size_t>(stack_size));
+  return run<T>(code, point, seed, stack.data());
+}
+
+struct Function {
+  std::string_view name;
+  Op op;
+  int arguments;
+};
+constexpr std::array<Function, 13> kFunctions = {{
+    {"sin", Op::sin, 1},   {"cos", Op::cos, 1},   {"tan", Op::tan, 1},   {"exp", Op::exp, 1},
+    {"log", Op::log, 1},   {"sqrt", Op::sqrt, 1}, {"abs", Op::abs, 1},   {"tanh", Op::tanh, 1},
+    {"step", Op::step, 1}, {"min", Op::min, 2},   {"max", Op::max, 2},   {"pow", Op::power, 2},
+    {"atan2", Op::atan2, 2},
+}};
+
+constexpr std::string_view kFunctionNames =
+    "sin cos tan exp log sqrt abs tanh step min max pow atan2";
+
+bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; }
+bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
+bool is_digit(char c) { return c >= '0' && c <= '9'; }
+
+constexpr std::array<std::string_view, 1> kTime = {"t"};
+
+}  // namespace
+
+// Recursive descent, one function per precedence level, emitting postfix code as it goes:
+//   sum     := product (('+' | '-') product)*
+//   product := signed (('*' | '/') signed)*
+//   signed  := ('-' | '+') signed | power
+//   power   := primary ('^' signed)?            right-associative, exponent may be signed
+//   primary := number | variable | 'pi' | 'e' | function '(' sum (',' sum)* ')' | '(' sum ')'
+class ExpressionParser {
+ public:
+  ExpressionParser(std::string_view text, std::span<const std::string_view> variables)
+      : text_(text), variables_(variables.begin(), variables.end()) {
+    for (std::size_t i = 0; i < variables_.size(); ++i) {
+      const std::string_view v = variables_[i];
+      const bool is_name = !v.empty() && is_name_start(v[0]) &&
+                           std::all_of(v.begin(), v.end(), is_name_char);
+      const bool reserved = v == "pi" || v == "e" ||
+                            std::any_of(kFunctions.begin(), kFunctions.end(),
+                                        [&](const Function& f) { return f.name == v; });
+      if (!is_name || reserved ||
+          std::find(variables_.begin(), variables_.begin() + static_cast<std::ptrdiff_t>(i), v) !=
+              variables_.begin() + static_cast<std::ptrdiff_t>(i)) {
+        throw std::invalid_argument(fmt::format("'{}' cannot name a variable of an expression", v));
+      }
+      variable_list_ += fmt::format("{}, ", v);
+    }
+  }
+
+  Expression parse() {
+    parse_sum();
+    if (peek() != '\0') {
+      const char c = text_[pos_];
+      // "2t" or "2(t+1)": say that the product needs its operator.
+      const bool juxtaposed = is_name_start(c) || c == '(' || is_digit(c);
+      fail(pos_,
+           fmt::format("expected an operator (+ - * / ^) or the end of the expression, got {}{}",
+                       describe(pos_), juxtaposed ? " (a product needs an explicit '*')" : ""));
+    }
+    Expression e;
+    e.text_ = std::string(text_);
+    e.variables_.assign(variables_.begin(), variables_.end());
+    e.code_ = std::move(code_);
+    int depth = 0;
+    for (const Expression::Instruction& instruction : e.code_) {
+      depth += 1 - arity(instruction.op);
+      e.stack_size_ = std::max(e.stack_size_, depth);
+    }
+    return e;
+  }
+
+ private:
+  static constexpr int kMaxNesting = 200;  // keeps the recursion far from the C++ stack limit
+  static constexpr double kMaxIntegerPower = 64.0;
+
+  void parse_sum() {
+    parse_product();
+    for (char c = peek(); c == '+' || c == '-'; c = peek()) {
+      ++pos_;
+      parse_product();
+      emit(c == '+' ? Op::add : Op::subtract);
+    }
+  }
+
+  void parse_product() {
+    parse_signed();
+    for (char c = peek(); c == '*' || c == '/'; c = peek()) {
+      ++pos_;
+      parse_signed();
+      emit(c == '*' ? Op::multiply : Op::divide);
+    }
+  }
+
+  void parse_signed() {
+    const char c = peek();
+    if (++nesting_ > kMaxNesting)
+      fail(pos_, fmt::format("nested deeper than {} levels", kMaxNesting));
+    if (c == '-' || c == '+') {
+      ++pos_;
+      parse_signed();
+      if (c == '-') emit(Op::negate);
+    } else {
+      parse_power();
+    }
+    --nesting_;
+  }
+
+  void parse_power() {
+    parse_primary();
+    if (peek() == '^') {
+      ++pos_;
+      parse_signed();
+      emit(Op::power);
+    }
+  }
+
+  void parse_primary() {
+    const char c = peek();
+    if (c == '(') {
+      ++pos_;
+      parse_sum();
+      expect(')');
+      return;
+    }
+    if (is_digit(c) || (c == '.' && pos_ + 1 < text_.size() && is_digit(text_[pos_ + 1]))) {
+      parse_number();
+      return;
+    }
+    if (!is_name_start(c)) {
+      fail(pos_, fmt::format("expected a number, {}pi, e, a function or '('{}", variable_list_,
+                             c == '\0' ? std::string() : ", got " + describe(pos_)));
+    }
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && is_name_char(text_[pos_])) ++pos_;
+    const std::string_view name = text_.substr(start, pos_ - start);
+    for (std::size_t i = 0; i < variables_.size(); ++i) {
+      if (variables_[i] == name) return code_.push_back({Op::variable, static_cast<int>(i), 0.0});
+    }
+    if (name == "pi") return emit_constant(std::numbers::pi);
+    if (name == "e") return emit_constant(std::numbers::e);
+    for (const Function& f : kFunctions) {
+      if (f.name != name) continue;
+      expect('(', fmt::format(" after '{}'", name));
+      // The argument count is worth saying only when a ',' or ')' came early or late.
+      const std::string count =
+          fmt::format(" ({} takes {} argument{})", name, f.arguments, f.arguments == 1 ? "" : "s");
+      for (int i = 0; i < f.arguments; ++i) {
+        if (i > 0) expect(',', {}, peek() == ')' ? count : std::string());
+        parse_sum();
+      }
+      expect(')', {}, peek() == ',' ? count : std::string());
+      return emit(f.op);
+    }
+    fail(start, fmt::format("unknown name '{}'; expected {}pi, e or a function {}", name,
+                            variable_list_, kFunctionNames));
+  }
+
+  // digits [. digits] [(e|E) [+|-] digits], or . digits [...]; an 'e' not followed by an
+  // exponent is left for the name rule, so that "2e" reads as 2 then the constant e.
+  void parse_number() {
+    const std::size_t start = pos_;
+    while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
+    if (pos_ < text_.size() && text_[pos_] == '.') {
+      ++pos_;
+      while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
+    }
+    if (pos_ < text_.size() && (text_[pos_] == 'e' || text_[pos_] == 'E')) {
+      std::size_t p = pos_ + 1;
+      if (p < text_.size() && (text_[p] == '+' || text_[p] == '-')) ++p;
+      if (p < text_.size() && is_digit(text_[p])) {
+        pos_ = p;
+        while (pos_ < text_.size() && is_digit(text_[pos_])) ++pos_;
+      }
+    }
+    double value = 0.0;
+    const auto [end, error] = std::from_chars(text_.data() + start, text_.data() + pos_, value);
+    if (error != std::errc() || end != text_.data() + pos_) {
+      fail(start, fmt::format("number '{}' is out of the range of a double",
+                              text_.substr(start, pos_ - start)));
+    }
+    emit_constant(value);
+  }
+
+  // `after` and `note` complete the message: "expected '(' after 'sin', got 't'",
+  // "expected ',', got ')' (min takes 2 arguments)".
+  void expect(char c, std::string_view after = {}, std::string_view note = {}) {
+    if (peek() != c) {
+      fail(pos_,
+           fmt::format("expected '{}'{}{}{}", c, after,
+                       pos_ < text_.size() ? ", got " + describe(pos_) : std::string(), note));
+    }
+    ++pos_;
+  }
+
+  // The next character after blanks, '\0' at the end.
+  char peek() {
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_])) != 0)
+      ++pos_;
+    return pos_ < text_.size() ? text_[pos_] : '\0';
+  }
+
+  // The token at `pos` for a message: a whole name or number, else one character (all the
+  // bytes of a UTF-8 one, such as a pasted '−' or '·').
+  std::string describe(std::size_t pos) const {
+    std::size_t end = pos + 1;
+    if (is_name_char(text_[pos]) || text_[pos] == '.') {
+      while (end < text_.size() && (is_name_char(text_[end]) || text_[end] == '.')) ++end;
+    } else if ((static_cast<unsigned char>(text_[pos]) & 0xC0u) == 0xC0u) {
+      while (end < text_.size() && (static_cast<unsigned char>(text_[end]) & 0xC0u) == 0x80u) ++end;
+    }
+    return fmt::format("'{}'", text_.substr(pos, end - pos));
+  }
+
+  [[noreturn]] void fail(std::size_t pos, std::string_view what) const {
+    throw_input_error("expression \"{}\": column {}: {}", text_, pos + 1, what);
+  }
+
+  void emit_constant(double value) { code_.push_back({Op::constant, 0, value}); }
+
+  // Appends `op`; if all its operands are constants, replaces them by the result, so that
+  // 2*pi*20 costs nothing per evaluation. In postfix code the operands of the last operator
+  // are constants exactly when the last `arity` instructions are.
+  void emit(Op op) {
+    // a^n with a constant small integer n: one unary instruction instead of a call to pow.
+    if (op == Op::power && code_.back().op == Op::constant) {
+      const double n = code_.back().constant;
+      if (n == std::trunc(n) && std::abs(n) <= kMaxIntegerPower && code_.size() >= 2 &&
+          code_[code_.size() - 2].op != Op::constant) {
+        code_.back() = {Op::integer_power, static_cast<int>(n), 0.0};
+        return;
+      }
+    }
+    const auto n = static_cast<std::size_t>(arity(op));
+    bool constant = code_.size() >= n;
+    for (std::size_t i = 0; constant && i < n; ++i)
+      constant = code_[code_.size() - 1 - i].op == Op::constant;
+    if (!constant) {
+      code_.push_back({op, 0, 0.0});
+      return;
+    }
+    // The folded value comes from the same code as a run-time one would.
+    std::vector<Expression::Instruction> folded(code_.end() - static_cast<std::ptrdiff_t>(n),
+                                                code_.end());
+    folded.push_back({op, 0, 0.0});
+    code_.resize(code_.size() - n);
+    emit_constant(run<double>(folded, 2, {}, 0));
+  }
+
+  std::string_view text_;
+  std::vector<std::string_view> variables_;
+  std::string variable_list_;  // "x, y, z, t, " for messages
+  std::size_t pos_ = 0;
+  int nesting_ = 0;
+  std::vector<Expression::Instruction> code_;
+};
+
+Expression::Expression() : text_("0"), code_{{Op::constant, 0, 0.0}} {}
+
+Expression Expression::parse(std::string_view text) { return parse(text, kTime); }
+
+Expression Expression::parse(std::string_view text, std::span<const std::string_view> variables) {
+  return ExpressionParser(text, variables).parse();
+}
+
+namespace {
+void check_point(std::span<const double> point, const std::vector<std::string>& variables) {
+  if (point.size() < variables.size()) {
+    throw std::invalid_argument(fmt::format("an expression of {} variables evaluated at {} values",
+                                            variables.size(), point.size()));
+  }
+}
+}  // namespace
+
+double Expression::value(std::span<const double> point) const {
+  check_point(point, variables_);
+  return run<double>(code_, stack_size_, point, 0);
+}
+
+Expression::ValueAndDerivative Expression::evaluate(std::span<const double> point,
+                                                    std::size_t variable) const {
+  check_point(point, variables_);
+  const Dual r = run<Dual>(code_, stack_size_, point, static_cast<int>(variable));
+  return {r.v, r.d};
+}
+
+}  // namespace shellflow
