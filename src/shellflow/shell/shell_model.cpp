@@ -572,6 +572,19 @@ void ShellModel::add_line_load(const LineLoad& load) {
   });
 }
 
+std::vector<Index> ShellModel::surface_cells(const std::string& group, std::string_view load_name) const {
+  if (group.empty()) {
+    std::vector<Index> cells(static_cast<std::size_t>(mesh_.num_cells()));
+    for (Index e = 0; e < mesh_.num_cells(); ++e) cells[static_cast<std::size_t>(e)] = e;
+    return cells;
+  }
+  const mesh::PhysicalGroup& g = mesh_.group(group);
+  if (g.dim != 2)
+    throw_input_error("shell mesh '{}': {} needs a surface group, '{}' has dimension {}", mesh_.name, load_name,
+                      g.name, g.dim);
+  return g.cells;
+}
+
 void ShellModel::add_surface_traction(const SurfaceTraction& load) {
   if (!load.traction.allFinite())
     throw_input_error("shell mesh '{}': surface traction on '{}' is not finite ({}, {}, {})", mesh_.name,
@@ -580,16 +593,7 @@ void ShellModel::add_surface_traction(const SurfaceTraction& load) {
   if (load.traction == Vec3::Zero())
     throw_input_error("shell mesh '{}': surface traction on '{}' is zero; remove the load or give its value",
                       mesh_.name, load.group.empty() ? "the whole shell" : load.group);
-  std::vector<Index> cells;
-  if (load.group.empty()) {
-    for (Index e = 0; e < mesh_.num_cells(); ++e) cells.push_back(e);
-  } else {
-    const mesh::PhysicalGroup& g = mesh_.group(load.group);
-    if (g.dim != 2)
-      throw_input_error("shell mesh '{}': surface traction needs a surface group, '{}' has dimension {}", mesh_.name,
-                        g.name, g.dim);
-    cells = g.cells;
-  }
+  const std::vector<Index> cells = surface_cells(load.group, "surface traction");
   // F_x^j = ∫ φ_j t |X̂_1 × X̂_2| dξ on the in-plane rule of the section.
   std::visit(
       [&](const auto& set) {
@@ -713,16 +717,7 @@ void ShellModel::add_follower_loads(const Eigen::VectorXd& u, double load_factor
 }
 
 void ShellModel::add_follower_pressure(const FollowerPressure& pressure) {
-  std::vector<Index> cells;
-  if (pressure.group.empty()) {
-    for (Index e = 0; e < mesh_.num_cells(); ++e) cells.push_back(e);
-  } else {
-    const mesh::PhysicalGroup& g = mesh_.group(pressure.group);
-    if (g.dim != 2)
-      throw_input_error("shell mesh '{}': follower pressure needs a surface group, '{}' has dimension {}", mesh_.name,
-                        g.name, g.dim);
-    cells = g.cells;
-  }
+  std::vector<Index> cells = surface_cells(pressure.group, "follower pressure");
   pressures_.emplace_back(pressure.pressure, std::move(cells));
 }
 

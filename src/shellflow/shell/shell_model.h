@@ -5,6 +5,7 @@
 // [dx (3), dG (3), a] (shell.md §0, §2.5).
 #include <array>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -202,6 +203,9 @@ class ShellModel {
   void build(ElementSet<Tri>& set);
   template <class F>
   void for_each_element_parallel(F&& f) const;
+  /// Cells of a surface group, or every cell when `group` is empty (loads on the whole
+  /// shell); InputError naming `load_name` for a group that is not a surface.
+  std::vector<Index> surface_cells(const std::string& group, std::string_view load_name) const;
   void compute_directors();
   void compute_pattern();
   void scatter(Index e, const double* Ke, int nd, SparseMatrix& K) const;
