@@ -59,6 +59,10 @@ TEST(TimeFunction, RampRisesLinearlyThenHolds) {
   EXPECT_EQ(f.value(5.0), 3.0);
   EXPECT_DOUBLE_EQ(f.derivative(0.5), 1.5);
   EXPECT_EQ(f.derivative(5.0), 0.0);
+  // At the kinks the right derivative: the rate of a motion that starts there.
+  EXPECT_DOUBLE_EQ(f.derivative(0.0), 1.5);
+  EXPECT_EQ(f.derivative(2.0), 0.0);
+  EXPECT_EQ(f.derivative(-1e-12), 0.0);
   EXPECT_THROW(TimeFunction::ramp(1.0, 0.0), InputError);
 }
 
@@ -79,6 +83,9 @@ TEST(TimeFunction, TabulatedInterpolatesLinearlyAndHoldsOutside) {
   EXPECT_DOUBLE_EQ(f.derivative(0.25), 2.0);
   EXPECT_DOUBLE_EQ(f.derivative(2.0), -0.5);
   EXPECT_EQ(f.derivative(4.0), 0.0);
+  EXPECT_DOUBLE_EQ(f.derivative(0.0), 2.0);  // right derivatives at the table points
+  EXPECT_DOUBLE_EQ(f.derivative(1.0), -0.5);
+  EXPECT_EQ(f.derivative(3.0), 0.0);
   EXPECT_THROW(TimeFunction::tabulated({0.0, 0.0}, {1.0, 2.0}), InputError);
 }
 

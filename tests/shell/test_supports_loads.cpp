@@ -9,7 +9,9 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/shell/linear_solver.h"
+#include "shellflow/shell/newmark_solver.h"
 #include "shellflow/shell/shell_model.h"
+#include "shellflow/shell/static_solver.h"
 #include "structured_shell_mesh.h"
 
 namespace shellflow::shell {
@@ -32,41 +34,20 @@ ShellModel strip(const Mat3& R, double L = 1.0, double W = 0.1, int nx = 8, int 
                     section());
 }
 
-/// Newton with the model's local bases, as a solver uses them (to_local / to_global).
-/// Prescribed motion: the jump of the prescribed dofs to their values at `time` is first
-/// carried into the free dofs by one linear step with the tangent of the last state (a
-/// jump alone would distort the first row of elements and give a poor tangent).
+/// Equilibrium at `load_factor` from the state u with the StaticSolver, which brings the
+/// Newton system to the model's local bases (to_local / to_global) and moves prescribed
+/// supports to their values at the load factor (the pseudo-time of a static run).
 /// Returns the number of iterations, -1 without convergence.
-int solve(const ShellModel& model, Eigen::VectorXd& u, double time = 0.0) {
-  SparseMatrix K = model.make_matrix();
-  Eigen::VectorXd f;
-  NewtonLinearSolver linear;
-  Eigen::VectorXd target = u;
-  model.apply_prescribed(time, target);
-  const Eigen::VectorXd jump = target - u;
-  if (jump.norm() > 0.0) {
-    if (!model.assemble(u, f, &K)) return -1;
-    Eigen::VectorXd rhs = model.reference_load() - f - K * jump;
-    model.to_local(K);
-    model.to_local(rhs);
-    if (!linear.solve(K, model.constrained(), rhs)) return -1;
-    model.to_global(rhs);
-    u = target + rhs;
-  }
-  std::vector<double> history;
-  for (int it = 1; it <= 30; ++it) {
-    if (!model.assemble(u, f, &K)) break;
-    Eigen::VectorXd rhs = model.reference_load() - f;
-    model.to_local(K);
-    model.to_local(rhs);
-    if (!linear.solve(K, model.constrained(), rhs)) break;
-    model.to_global(rhs);
-    u += rhs;
-    history.push_back(rhs.norm() / u.norm());
-    if (history.back() <= 1e-11) return it;
-  }
-  for (std::size_t k = 0; k < history.size(); ++k) std::printf("  no convergence: iteration %zu |du|/|u| %.3e\n", k + 1, history[k]);
-  return -1;
+int solve(const ShellModel& model, Eigen::VectorXd& u, double load_factor = 1.0) {
+  NewtonOptions options;
+  options.tolerance = 1e-11;
+  options.residual_tolerance = 1e-9;
+  options.max_iterations = 30;
+  StaticSolver solver(model, options);
+  solver.set_state(u, load_factor);
+  const int iterations = solver.solve(load_factor);
+  if (iterations > 0) u = solver.displacement();
+  return iterations;
 }
 
 /// max |u_b − Q u_a| over all nodal 3-vectors, relative to max |u_a|; a compared directly.
@@ -227,6 +208,99 @@ TEST(ShellSupports, PrescribedRotationAboutTheClampedEdgeMovesTheStripRigidly) {
   }
   std::printf("prescribed rigid rotation: max deviation from the rigid motion %.2e\n", worst);
   EXPECT_LT(worst, 1e-10);
+}
+
+TEST(ShellSupports, DynamicsWithRotatedSupportsGivesTheRotatedMotion) {
+  // The roller strip of the static test, with mass, suddenly loaded: Newmark and the
+  // midpoint rule on the rotated model must give Q times the axis-aligned motion.
+  for (const TimeScheme scheme : {TimeScheme::newmark, TimeScheme::midpoint}) {
+    const auto run = [&](const Mat3& Q, bool directional) {
+      ShellSection s = section();
+      s.material.density = 2700.0;
+      ShellModel model(testing::structured_shell_mesh(1.0, 0.1, 6, 1,
+                                                      [&](double x, double y) { return Vec3(Q * Vec3(x, y, 0.0)); }),
+                       s);
+      model.add_support(Support::clamped("left"));
+      if (directional) {
+        model.add_support(DirectionalSupport::symmetry_plane("bottom", Q * Vec3::UnitY()));
+        model.add_support(DirectionalSupport::symmetry_plane("top", Q * Vec3::UnitY()));
+        model.add_support(DirectionalSupport::roller("right", Q * Vec3::UnitX(), true));
+      } else {
+        model.add_support(Support::symmetry_plane("bottom", 1));
+        model.add_support(Support::symmetry_plane("top", 1));
+        model.add_support(Support::sliding("right", 0, true));
+      }
+      model.add_surface_traction({"", Q * Vec3(0.0, 0.0, 2e3)});
+      NewmarkOptions options;
+      options.scheme = scheme;
+      options.newton.tolerance = 1e-11;
+      options.newton.residual_tolerance = 1e-9;
+      NewmarkSolver solver(model, options, [](double) { return 1.0; });
+      const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
+      solver.set_initial_state(zero, zero);
+      for (int step = 0; step < 10; ++step) solver.advance(2e-4);
+      return solver.displacement();
+    };
+    const Mat3 Q = Eigen::AngleAxisd(0.8, Vec3(0.2, -1.0, 0.6).normalized()).toRotationMatrix();
+    const Eigen::VectorXd ua = run(Mat3::Identity(), false);
+    const Eigen::VectorXd ub = run(Q, true);
+    const double diff = rotated_difference(ua, ub, Q);
+    std::printf("rotated supports, %s: max |u| %.3e m after 10 steps, rel. difference %.2e\n",
+                scheme == TimeScheme::newmark ? "Newmark" : "midpoint", ua.cwiseAbs().maxCoeff(), diff);
+    EXPECT_GT(ua.cwiseAbs().maxCoeff(), 1e-4);
+    EXPECT_LT(diff, 1e-9);
+  }
+}
+
+TEST(ShellSupports, PrescribedTranslationAtConstantVelocityIsFollowedExactly) {
+  // The left edge moves at constant velocity d and the free strip starts with velocity d:
+  // the exact motion is the rigid translation u = d t, which both schemes integrate
+  // exactly (linear in time) once the prescribed dofs get their positions and rates.
+  for (const TimeScheme scheme : {TimeScheme::newmark, TimeScheme::midpoint}) {
+    ShellSection s = section();
+    s.material.density = 2700.0;
+    ShellModel model(testing::structured_shell_mesh(1.0, 0.1, 4, 1, [](double x, double y) { return Vec3(x, y, 0.0); }),
+                     s);
+    const Vec3 d(0.3, -0.2, 0.5);
+    PrescribedMotion motion;
+    motion.group = "left";
+    motion.displacement = d;
+    motion.displacement_history = TimeFunction::ramp(10.0, 10.0);  // f(t) = t up to t = 10
+    model.add_prescribed_motion(motion);
+    NewmarkOptions options;
+    options.scheme = scheme;
+    NewmarkSolver solver(model, options);
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(model.num_dofs());
+    for (Index n = 0; n < model.num_nodes(); ++n) v.segment<3>(7 * n) = d;
+    solver.set_initial_state(Eigen::VectorXd::Zero(model.num_dofs()), v);
+    for (int step = 0; step < 10; ++step) solver.advance(1e-3);
+    double worst = 0.0;
+    for (Index n = 0; n < model.num_nodes(); ++n) {
+      worst = std::max(worst, (solver.displacement().segment<3>(7 * n) - 0.01 * d).norm() / (0.01 * d.norm()));
+      worst = std::max(worst, (solver.velocity().segment<3>(7 * n) - d).norm() / d.norm());
+      worst = std::max(worst, solver.displacement().segment<3>(7 * n + 3).norm());
+    }
+    std::printf("prescribed translation, %s: max relative deviation from u = d t, v = d: %.2e\n",
+                scheme == TimeScheme::newmark ? "Newmark" : "midpoint", worst);
+    EXPECT_LT(worst, 1e-10);
+  }
+}
+
+TEST(ShellSupports, PrescribedMotionNeedsLoadControl) {
+  ShellModel model = strip(Mat3::Identity(), 1.0, 0.1, 2, 1);
+  PrescribedMotion motion;
+  motion.group = "left";
+  motion.displacement = Vec3(0.0, 0.0, 0.01);
+  model.add_prescribed_motion(motion);
+  model.add_point_load({model.num_nodes() - 1, Vec3(0.0, 0.0, 1.0)});
+  StaticSolver solver(model);
+  ArcLengthOptions arc;
+  try {
+    solver.run_arc_length(2, arc);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("use control: load"), std::string::npos) << e.what();
+  }
 }
 
 TEST(ShellLoads, SurfaceTractionTotalIsTractionTimesArea) {

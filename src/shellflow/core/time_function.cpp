@@ -104,10 +104,10 @@ double TimeFunction::value(double t) const {
 double TimeFunction::derivative(double t) const {
   switch (kind_) {
     case Kind::constant: return 0.0;
-    case Kind::ramp: return (t > 0.0 && t < b_) ? a_ / b_ : 0.0;
+    case Kind::ramp: return (t >= 0.0 && t < b_) ? a_ / b_ : 0.0;
     case Kind::sine: return a_ * b_ * std::cos(b_ * t + c_);
     case Kind::tabulated: {
-      if (t <= times_.front() || t >= times_.back()) return 0.0;
+      if (t < times_.front() || t >= times_.back()) return 0.0;
       const auto i = static_cast<std::size_t>(
           std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
       return (values_[i] - values_[i - 1]) / (times_[i] - times_[i - 1]);

@@ -32,6 +32,8 @@ class TimeFunction {
   static TimeFunction expression(std::string text);
 
   double value(double t) const;
+  /// df/dt; at a kink (ramp start and end, table points) the right derivative, the rate
+  /// a motion starting at t has.
   double derivative(double t) const;
   Kind kind() const { return kind_; }
 

@@ -128,4 +128,16 @@ bool NewtonLinearSolver::solve(SparseMatrix& K, const std::vector<char>& constra
   return factorize(K, constrained, symmetric) && solve(rhs);
 }
 
+bool ShellSystemSolver::factorize(SparseMatrix& K, bool symmetric) {
+  model_.to_local(K);
+  return solver_.factorize(K, constrained_.empty() ? model_.constrained() : constrained_, symmetric);
+}
+
+bool ShellSystemSolver::solve(Eigen::VectorXd& rhs) {
+  model_.to_local(rhs);
+  if (!solver_.solve(rhs)) return false;
+  model_.to_global(rhs);
+  return true;
+}
+
 }  // namespace shellflow::shell

@@ -51,4 +51,28 @@ class NewtonLinearSolver {
   bool lu_analysed_ = false;
 };
 
+/// The Newton system of a ShellModel, in global components: K and every right-hand side are
+/// brought to the local frames of the supports along non-axis directions
+/// (ShellModel::to_local), the fixed dofs are eliminated, and the correction comes back in
+/// global components. Without local frames this is NewtonLinearSolver on the model's
+/// constraints. `constrained` replaces the model's flags (in local components), e.g. to
+/// also fix the rows without mass in an acceleration solve.
+class ShellSystemSolver {
+ public:
+  explicit ShellSystemSolver(const ShellModel& model, std::vector<char> constrained = {})
+      : model_(model), constrained_(std::move(constrained)) {}
+
+  /// Factorises K (changed in place: local components, supports eliminated).
+  bool factorize(SparseMatrix& K, bool symmetric);
+  bool factorize(SparseMatrix& K) { return factorize(K, model_.symmetric_tangent()); }
+  /// Solves with the last factorisation; rhs in, correction out (global components).
+  bool solve(Eigen::VectorXd& rhs);
+  bool solve(SparseMatrix& K, Eigen::VectorXd& rhs) { return factorize(K) && solve(rhs); }
+
+ private:
+  const ShellModel& model_;
+  std::vector<char> constrained_;
+  NewtonLinearSolver solver_;
+};
+
 }  // namespace shellflow::shell

@@ -7,22 +7,11 @@
 
 namespace shellflow::shell {
 
-namespace {
-
-double free_norm(const Eigen::VectorXd& v, const std::vector<char>& fixed) {
-  double s = 0.0;
-  for (Eigen::Index i = 0; i < v.size(); ++i)
-    if (!fixed[static_cast<std::size_t>(i)]) s += v(i) * v(i);
-  return std::sqrt(s);
-}
-
-}  // namespace
-
 NewmarkSolver::NewmarkSolver(const ShellModel& model, NewmarkOptions options,
                              std::function<double(double)> load_factor)
     : model_(model), options_(options), load_factor_(std::move(load_factor)),
       u_(Eigen::VectorXd::Zero(model.num_dofs())), v_(u_), a_(u_), M_(model.make_matrix()),
-      K_(model.make_matrix()) {
+      K_(model.make_matrix()), linear_solver_(model) {
   model_.assemble_mass(M_);
   inertial_fixed_ = model_.constrained();
   for (Index n = 0; n < model_.num_nodes(); ++n) inertial_fixed_[static_cast<std::size_t>(dofs_per_node * n + 6)] = 1;
@@ -31,16 +20,19 @@ NewmarkSolver::NewmarkSolver(const ShellModel& model, NewmarkOptions options,
 void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
   u_ = u;
   v_ = v;
-  // Supported components do not move, and `a` has no velocity (§7).
-  for (std::size_t i = 0; i < inertial_fixed_.size(); ++i)
-    if (inertial_fixed_[i]) v_(static_cast<Eigen::Index>(i)) = 0.0;
+  model_.apply_prescribed(time_, u_);
+  // Supported components do not move (prescribed ones move at their prescribed rate), and
+  // `a` has no velocity (§7).
+  model_.remove_fixed_part(v_);
+  model_.apply_prescribed_velocity(time_, v_);
+  for (Index n = 0; n < model_.num_nodes(); ++n) v_(dofs_per_node * n + 6) = 0.0;
   Eigen::VectorXd f_ext = load_factor_at(time_) * model_.reference_load();
   model_.add_follower_loads(u_, load_factor_at(time_), f_ext, nullptr);
   model_.assemble(u_, f_int_, nullptr);
   Eigen::VectorXd rhs = f_ext - f_int_ - options_.mass_damping * (M_ * v_);
   SparseMatrix M = M_;
-  NewtonLinearSolver mass_solver;
-  if (!mass_solver.solve(M, inertial_fixed_, rhs))
+  ShellSystemSolver mass_solver(model_, inertial_fixed_);
+  if (!mass_solver.factorize(M, true) || !mass_solver.solve(rhs))
     throw SolverError("shell dynamics: the mass matrix is singular on the position/director dofs");
   a_ = rhs;
 }
@@ -76,10 +68,10 @@ int NewmarkSolver::try_newmark_step(double dt) {
   const double mass_coefficient = 1.0 / (beta * dt * dt) + cm * gamma / (beta * dt);
   const Eigen::VectorXd MQ = M_ * Q;
   const Eigen::VectorXd inertia_history = -MQ + cm * (M_ * R) - cm * gamma * dt * MQ;
-  const auto& fixed = model_.constrained();
   const double lf = load_factor_at(t_next);
 
   Eigen::VectorXd u = u_;  // predictor y_{s+1}^(0) = y_s (papers' practice)
+  model_.apply_prescribed(t_next, u);
   for (int it = 1; it <= options_.newton.max_iterations; ++it) {
     if (!model_.assemble(u, f_int_, &K_)) return -1;
     Eigen::VectorXd f_ext = lf * model_.reference_load();
@@ -90,10 +82,10 @@ int NewmarkSolver::try_newmark_step(double dt) {
     double* h = K_.valuePtr();
     const double* m = M_.valuePtr();
     for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] += mass_coefficient * m[i];
-    const double force_scale = std::max({free_norm(f_ext, fixed), free_norm(f_int_, fixed),
-                                         free_norm(Mu / (beta * dt * dt) - MQ, fixed)});
+    const double force_scale = std::max({model_.free_norm(f_ext), model_.free_norm(f_int_),
+                                         model_.free_norm(Mu / (beta * dt * dt) - MQ)});
     Eigen::VectorXd du = -g;
-    if (!linear_solver_.solve(K_, fixed, du, model_.symmetric_tangent())) return -1;
+    if (!linear_solver_.solve(K_, du)) return -1;
     u += du;
     if (!u.allFinite()) return -1;
     if (newton_converged(model_, options_.newton, du, g, force_scale)) {
@@ -122,10 +114,10 @@ int NewmarkSolver::try_midpoint_step(double dt) {
   const double t_mid = time_ + 0.5 * dt;
   const double mass_coefficient = 2.0 / (dt * dt) + cm / dt;
   const Eigen::VectorXd Mv = M_ * v_;
-  const auto& fixed = model_.constrained();
   const double lf = load_factor_at(t_mid);
 
-  Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a` and supports)
+  Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a`)
+  model_.apply_prescribed(time_ + dt, u);
   for (int it = 1; it <= options_.newton.max_iterations; ++it) {
     const Eigen::VectorXd u_mid = 0.5 * (u_ + u);
     if (!model_.assemble(u_mid, f_int_, &K_)) return -1;
@@ -139,9 +131,9 @@ int NewmarkSolver::try_midpoint_step(double dt) {
     const double* m = M_.valuePtr();
     for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] = 0.5 * h[i] + mass_coefficient * m[i];
     const double force_scale =
-        std::max({free_norm(f_ext, fixed), free_norm(f_int_, fixed), free_norm(M_acceleration, fixed)});
+        std::max({model_.free_norm(f_ext), model_.free_norm(f_int_), model_.free_norm(M_acceleration)});
     Eigen::VectorXd du = -g;
-    if (!linear_solver_.solve(K_, fixed, du, model_.symmetric_tangent())) return -1;
+    if (!linear_solver_.solve(K_, du)) return -1;
     u += du;
     if (!u.allFinite()) return -1;
     if (newton_converged(model_, options_.newton, du, g, force_scale)) {

@@ -38,7 +38,10 @@ class NewmarkSolver {
   /// Sets the initial state (u, v at the current time; u = 0 at rest) and computes the
   /// consistent acceleration from M a = F_ext - F_int - C v on the x and G rows. The `a`
   /// entries of u should be in equilibrium with its x and G (true at rest, for a mode or a
-  /// static solution): the midpoint scheme carries them as given.
+  /// static solution): the midpoint scheme carries them as given. Supported components
+  /// get zero velocity; those with a prescribed motion take its position and rate at the
+  /// current time (their initial acceleration is taken as zero), and every step moves them
+  /// to their prescribed position at its end time.
   void set_initial_state(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
   /// Advances by dt (sub-stepping by halves on failure, up to newton.max_cutbacks levels).
   /// Returns the Newton iterations used. Throws SolverError naming the time on failure.
@@ -76,7 +79,7 @@ class NewmarkSolver {
   Eigen::VectorXd u_, v_, a_;
   SparseMatrix M_, K_;
   Eigen::VectorXd f_int_;
-  NewtonLinearSolver linear_solver_;
+  ShellSystemSolver linear_solver_;
   std::vector<char> inertial_fixed_;  ///< constrained dofs plus every `a` (no inertia)
 };
 

@@ -395,6 +395,29 @@ void ShellModel::to_global(Eigen::VectorXd& v) const {
   for (const auto& [first, T] : frames_) v.segment<3>(first) = T * v.segment<3>(first);
 }
 
+void ShellModel::remove_fixed_part(Eigen::VectorXd& v) const {
+  for (Index n = 0; n < num_nodes(); ++n) {
+    for (int part = 0; part < 2; ++part) {
+      const Mat3& P = fixed_projector_[2 * static_cast<std::size_t>(n) + static_cast<std::size_t>(part)];
+      auto segment = v.segment<3>(dofs_per_node * n + 3 * part);
+      segment -= P * Vec3(segment);
+    }
+    if (constrained_[static_cast<std::size_t>(dofs_per_node * n + 6)]) v(dofs_per_node * n + 6) = 0.0;
+  }
+}
+
+double ShellModel::free_norm(const Eigen::VectorXd& v) const {
+  Eigen::VectorXd free = v;
+  remove_fixed_part(free);
+  return free.norm();
+}
+
+double ShellModel::fixed_norm(const Eigen::VectorXd& v) const {
+  Eigen::VectorXd free = v;
+  remove_fixed_part(free);
+  return (v - free).norm();
+}
+
 // Tᵀ K T in place. T is block diagonal with 3x3 blocks on the rotated 3-vectors; the
 // pattern holds full 7x7 node blocks, so the three columns of a 3-vector have the same
 // rows, and in every column the three rows of a 3-vector are consecutive entries.
@@ -527,6 +550,21 @@ void ShellModel::apply_prescribed(double t, Eigen::VectorXd& u) const {
         const Vec3& V = directors_[static_cast<std::size_t>(n)];
         u.segment<3>(dofs_per_node * n + 3) = R * V - V;
       }
+    }
+  }
+}
+
+void ShellModel::apply_prescribed_velocity(double t, Eigen::VectorXd& v) const {
+  for (std::size_t k = 0; k < prescribed_.size(); ++k) {
+    const PrescribedMotion& m = prescribed_[k];
+    const Vec3 dx = m.displacement_history.derivative(t) * m.displacement;
+    const bool rotates = m.rotation_axis != Vec3::Zero();
+    const Mat3 R = Eigen::AngleAxisd(rotates ? m.rotation_angle.value(t) : 0.0, rotates ? m.rotation_axis : Vec3::UnitZ())
+                       .toRotationMatrix();
+    const Vec3 omega = rotates ? Vec3(m.rotation_angle.derivative(t) * m.rotation_axis) : Vec3::Zero();
+    for (Index n : prescribed_nodes_[k]) {
+      v.segment<3>(dofs_per_node * n) = dx;
+      if (rotates) v.segment<3>(dofs_per_node * n + 3) = omega.cross(R * directors_[static_cast<std::size_t>(n)]);
     }
   }
 }

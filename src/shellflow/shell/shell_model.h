@@ -151,6 +151,9 @@ class ShellModel {
   /// Writes the prescribed increments at time t into u (x rows: f(t) d; G rows:
   /// R(g(t)) V − V), leaving every other dof as it is. No-op without prescribed motions.
   void apply_prescribed(double t, Eigen::VectorXd& u) const;
+  /// Writes the prescribed rates at time t into v (x rows: f'(t) d; G rows:
+  /// g'(t) axis × R(g(t)) V), leaving every other dof as it is.
+  void apply_prescribed_velocity(double t, Eigen::VectorXd& v) const;
   bool has_prescribed_motion() const { return !prescribed_.empty(); }
   void add_surface_traction(const SurfaceTraction& traction);
   void add_line_load(const LineLoad& load);
@@ -175,6 +178,13 @@ class ShellModel {
   void to_local(SparseMatrix& K) const;
   void to_local(Eigen::VectorXd& v) const;
   void to_global(Eigen::VectorXd& v) const;
+  /// Euclidean norms of the free part and of the fixed part (the directions the supports
+  /// fix) of a vector in global components, e.g. a residual and its reactions. Right with
+  /// or without local frames.
+  double free_norm(const Eigen::VectorXd& v) const;
+  double fixed_norm(const Eigen::VectorXd& v) const;
+  /// Removes the fixed part of v (global components), leaving the free part.
+  void remove_fixed_part(Eigen::VectorXd& v) const;
   /// Dead external force at load factor 1.
   const Eigen::VectorXd& reference_load() const { return reference_load_; }
   /// Adds the edge couples and follower pressures at load factor `load_factor` to `force`

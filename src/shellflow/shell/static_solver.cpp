@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <string_view>
 
 #include "shellflow/core/error.h"
 
@@ -11,21 +12,19 @@ namespace shellflow::shell {
 
 namespace {
 
-double free_norm(const Eigen::VectorXd& v, const std::vector<char>& constrained) {
-  double s = 0.0;
-  for (Eigen::Index i = 0; i < v.size(); ++i)
-    if (!constrained[static_cast<std::size_t>(i)]) s += v(i) * v(i);
-  return std::sqrt(s);
-}
-
 /// Force scale of the §8 residual test: max(‖F_ext‖, ‖F_int‖) on the free dofs, and also
 /// the reactions (F_int on the fixed dofs) — without them a problem driven only by
 /// prescribed support displacements has a zero scale at equilibrium and never converges.
-double force_scale_of(const Eigen::VectorXd& f_ext, const Eigen::VectorXd& f_int, const std::vector<char>& constrained) {
-  double reactions = 0.0;
-  for (Eigen::Index i = 0; i < f_int.size(); ++i)
-    if (constrained[static_cast<std::size_t>(i)]) reactions += f_int(i) * f_int(i);
-  return std::max({free_norm(f_ext, constrained), free_norm(f_int, constrained), std::sqrt(reactions)});
+double force_scale_of(const ShellModel& model, const Eigen::VectorXd& f_ext, const Eigen::VectorXd& f_int) {
+  return std::max({model.free_norm(f_ext), model.free_norm(f_int), model.fixed_norm(f_int)});
+}
+
+/// Prescribed support motions follow the load factor, so they only go with load control.
+void require_no_prescribed_motion(const ShellModel& model, std::string_view method) {
+  if (model.has_prescribed_motion())
+    throw InputError(fmt::format("shell mesh '{}': prescribed support motion needs load control; {} varies the "
+                                 "load factor inside a step; use control: load",
+                                 model.mesh().name, method));
 }
 
 }  // namespace
@@ -39,27 +38,38 @@ bool newton_converged(const ShellModel& model, const NewtonOptions& options, con
     da = std::max(da, std::abs(du(dofs_per_node * n + 6)));
   }
   const double sqrt_n = std::sqrt(static_cast<double>(model.num_nodes()));
-  const double g_norm = free_norm(g, model.constrained());
+  const double g_norm = model.free_norm(g);
+  // Floor of the force scale: a residual below 1e-12 E h L_ref is a strain of 1e-12, i.e.
+  // round-off. Without it a motion with no forces at all (a prescribed rigid motion) has a
+  // zero scale and never converges.
+  const ShellSection& section = model.section();
+  force_scale = std::max(force_scale, 1e-6 * section.material.young * section.thickness * model.reference_length());
   return std::sqrt(dx2) <= options.tolerance * model.reference_length() * sqrt_n &&
          std::sqrt(dG2) <= options.tolerance * sqrt_n && da <= options.tolerance &&
          g_norm <= options.residual_tolerance * std::max(force_scale, std::numeric_limits<double>::min());
 }
 
 StaticSolver::StaticSolver(const ShellModel& model, NewtonOptions options)
-    : model_(model), options_(options), u_(Eigen::VectorXd::Zero(model.num_dofs())), K_(model.make_matrix()) {}
+    : model_(model), options_(options), u_(Eigen::VectorXd::Zero(model.num_dofs())), K_(model.make_matrix()),
+      linear_solver_(model) {
+  model_.apply_prescribed(0.0, u_);
+}
 
 int StaticSolver::solve(double load_factor) {
   const Eigen::VectorXd u_start = u_;
-  const auto& fixed = model_.constrained();
+  if (!predict_prescribed(load_factor)) {
+    u_ = u_start;
+    return -1;
+  }
   Eigen::VectorXd f_ext;
   for (int it = 1; it <= options_.max_iterations; ++it) {
     if (!model_.assemble(u_, f_int_, &K_)) break;
     f_ext = load_factor * model_.reference_load();
     model_.add_follower_loads(u_, load_factor, f_ext, &K_);
     Eigen::VectorXd rhs = f_ext - f_int_;  // -g
-    const double force_scale = force_scale_of(f_ext, f_int_, fixed);
+    const double force_scale = force_scale_of(model_, f_ext, f_int_);
     const Eigen::VectorXd residual = -rhs;
-    if (!linear_solver_.solve(K_, fixed, rhs, model_.symmetric_tangent())) break;
+    if (!linear_solver_.solve(K_, rhs)) break;
     u_ += rhs;
     if (!u_.allFinite()) break;
     // The residual tested is the one before this correction; together with a small
@@ -71,6 +81,25 @@ int StaticSolver::solve(double load_factor) {
   }
   u_ = u_start;
   return -1;
+}
+
+// Supports with prescribed motion move to their values at this level (the load factor is
+// the pseudo-time of a static run). A jump of those dofs alone would distort the first row
+// of elements and give Newton a poor start, so one linear step with the tangent of the
+// current state carries it into the free dofs: u = target + K⁻¹(F_ext − F_int − K jump).
+bool StaticSolver::predict_prescribed(double load_factor) {
+  if (!model_.has_prescribed_motion()) return true;
+  Eigen::VectorXd target = u_;
+  model_.apply_prescribed(load_factor, target);
+  const Eigen::VectorXd jump = target - u_;
+  if (!(jump.squaredNorm() > 0.0)) return true;
+  if (!model_.assemble(u_, f_int_, &K_)) return false;
+  Eigen::VectorXd rhs = load_factor * model_.reference_load();
+  model_.add_follower_loads(u_, load_factor, rhs, &K_);
+  rhs -= f_int_ + K_ * jump;
+  if (!linear_solver_.solve(K_, rhs)) return false;
+  u_ = target + rhs;
+  return u_.allFinite();
 }
 
 std::vector<LoadStep> StaticSolver::run(int num_steps, double final_load_factor,
@@ -124,9 +153,8 @@ double StaticSolver::relative_residual() const {
   if (!model_.assemble(u_, f_int, nullptr)) return std::numeric_limits<double>::infinity();
   Eigen::VectorXd f_ext = load_factor_ * model_.reference_load();
   model_.add_follower_loads(u_, load_factor_, f_ext, nullptr);
-  const auto& fixed = model_.constrained();
-  const double scale = force_scale_of(f_ext, f_int, fixed);
-  return free_norm(f_int - f_ext, fixed) / std::max(scale, std::numeric_limits<double>::min());
+  const double scale = force_scale_of(model_, f_ext, f_int);
+  return model_.free_norm(f_int - f_ext) / std::max(scale, std::numeric_limits<double>::min());
 }
 
 bool StaticSolver::assemble_system(double load_factor, Eigen::VectorXd& residual, Eigen::VectorXd& direction,
@@ -136,25 +164,21 @@ bool StaticSolver::assemble_system(double load_factor, Eigen::VectorXd& residual
   model_.add_follower_loads(u_, load_factor, f_ext, &K_);
   direction = load_direction();
   residual = f_int_ - f_ext;
-  const auto& fixed = model_.constrained();
-  force_scale = force_scale_of(f_ext, f_int_, fixed);
+  force_scale = force_scale_of(model_, f_ext, f_int_);
   return residual.allFinite();
 }
 
 bool StaticSolver::solve_pair(Eigen::VectorXd& minus_g_then_du_r, Eigen::VectorXd& q_then_du_t) {
-  // Two solves with one matrix; the second repeats the factorisation because
-  // NewtonLinearSolver has no separate factorise/solve step.
-  const auto& fixed = model_.constrained();
-  return linear_solver_.solve(K_, fixed, minus_g_then_du_r, model_.symmetric_tangent()) &&
-         linear_solver_.solve(K_, fixed, q_then_du_t, model_.symmetric_tangent());
+  return linear_solver_.factorize(K_) && linear_solver_.solve(minus_g_then_du_r) &&
+         linear_solver_.solve(q_then_du_t);
 }
 
 double StaticSolver::position_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
-  const auto& fixed = model_.constrained();
+  Eigen::VectorXd a_free = a, b_free = b;
+  model_.remove_fixed_part(a_free);
+  model_.remove_fixed_part(b_free);
   double s = 0.0;
-  for (Index n = 0; n < model_.num_nodes(); ++n)
-    for (Index i = dofs_per_node * n; i < dofs_per_node * n + 3; ++i)
-      if (!fixed[static_cast<std::size_t>(i)]) s += a(i) * b(i);
+  for (Index n = 0; n < model_.num_nodes(); ++n) s += a_free.segment<3>(dofs_per_node * n).dot(b_free.segment<3>(dofs_per_node * n));
   return s;
 }
 
@@ -174,10 +198,7 @@ Eigen::VectorXd StaticSolver::control_weights(const ControlledDisplacement& cont
       throw InputError(fmt::format("displacement control: group '{}' has no nodes", control.group));
     for (Index n : nodes) w(dofs_per_node * n + control.component) = 1.0 / static_cast<double>(nodes.size());
   }
-  const auto& fixed = model_.constrained();
-  bool any_free = false;
-  for (Eigen::Index i = 0; i < w.size(); ++i) any_free = any_free || (w(i) != 0.0 && !fixed[static_cast<std::size_t>(i)]);
-  if (!any_free)
+  if (!(model_.free_norm(w) > 1e-12 * w.norm()))
     throw InputError(fmt::format("displacement control: component {} of {} is fixed by a support; control a free "
                                  "displacement",
                                  control.component,
@@ -191,6 +212,7 @@ double StaticSolver::controlled_displacement(const ControlledDisplacement& contr
 }
 
 int StaticSolver::solve_displacement(const ControlledDisplacement& control, double value) {
+  require_no_prescribed_motion(model_, "displacement control");
   const Eigen::VectorXd w = control_weights(control);
   const Eigen::VectorXd u_start = u_;
   const double load_start = load_factor_;
@@ -219,6 +241,7 @@ int StaticSolver::solve_displacement(const ControlledDisplacement& control, doub
 std::vector<LoadStep> StaticSolver::run_displacement_control(const ControlledDisplacement& control, int num_steps,
                                                              double final_value,
                                                              const std::function<void(const LoadStep&)>& on_step) {
+  require_no_prescribed_motion(model_, "displacement control");
   std::vector<LoadStep> steps;
   double current = controlled_displacement(control);
   const double start = current;
@@ -264,7 +287,7 @@ int StaticSolver::arc_length_step(double arc_length, double direction_sign) {
   // increment (positive work along the path), so the path does not double back at a limit
   // point where the sign of λ̇ changes.
   if (!assemble_system(load_factor_, g, q, force_scale)) return fail();
-  if (!linear_solver_.solve(K_, model_.constrained(), q, model_.symmetric_tangent())) return fail();
+  if (!linear_solver_.solve(K_, q)) return fail();
   const double t_norm = std::sqrt(position_dot(q, q));
   if (!(t_norm > 0.0)) return fail();
   double sign = direction_sign;
@@ -309,6 +332,7 @@ int StaticSolver::arc_length_step(double arc_length, double direction_sign) {
 
 std::vector<LoadStep> StaticSolver::run_arc_length(int max_steps, const ArcLengthOptions& options,
                                                    const PathCallback& on_step) {
+  require_no_prescribed_motion(model_, "the arc-length method");
   if (!(options.initial_load_increment != 0.0) || options.desired_iterations < 1 || !(options.max_growth >= 1.0) ||
       !(options.max_shrink >= 1.0))
     throw InputError(fmt::format("arc-length method: need a non-zero initial load increment (got {}), "
@@ -322,7 +346,7 @@ std::vector<LoadStep> StaticSolver::run_arc_length(int max_steps, const ArcLengt
     double force_scale = 0.0;
     if (!assemble_system(load_factor_, g, q, force_scale))
       throw SolverError("arc-length method: the start state is not admissible (det A <= 0)");
-    if (!linear_solver_.solve(K_, model_.constrained(), q, model_.symmetric_tangent()))
+    if (!linear_solver_.solve(K_, q))
       throw SolverError("arc-length method: the tangent at the start state is singular");
     initial_arc_length_ = std::abs(options.initial_load_increment) * std::sqrt(position_dot(q, q));
     if (!(initial_arc_length_ > 0.0))

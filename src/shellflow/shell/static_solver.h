@@ -93,7 +93,8 @@ class StaticSolver {
 
   /// Sets the current state (increments u and load factor), e.g. to prescribe support
   /// displacements: the components a support fixes keep the values set here in every
-  /// solve. Forgets the direction of the last arc-length step.
+  /// solve (those of a ShellModel prescribed motion take its values at each load level).
+  /// Forgets the direction of the last arc-length step.
   void set_state(const Eigen::VectorXd& u, double load_factor);
 
   const Eigen::VectorXd& displacement() const { return u_; }
@@ -110,6 +111,9 @@ class StaticSolver {
   /// load direction q at (u_, load_factor). False for an inadmissible state.
   bool assemble_system(double load_factor, Eigen::VectorXd& residual, Eigen::VectorXd& direction,
                        double& force_scale);
+  /// Moves the prescribed dofs to their values at `load_factor` with a linear predictor
+  /// for the free dofs; false when the tangent is singular or the state inadmissible.
+  bool predict_prescribed(double load_factor);
   /// Solves K δu_r = -g and K δu_t = q with the tangent of the last assemble_system.
   bool solve_pair(Eigen::VectorXd& minus_g_then_du_r, Eigen::VectorXd& q_then_du_t);
   Eigen::VectorXd control_weights(const ControlledDisplacement& control) const;
@@ -124,7 +128,7 @@ class StaticSolver {
   double load_factor_ = 0.0;
   SparseMatrix K_;
   Eigen::VectorXd f_int_;
-  NewtonLinearSolver linear_solver_;
+  ShellSystemSolver linear_solver_;
   /// Arc-length state kept between calls: last converged increment and Δl.
   Eigen::VectorXd last_increment_;
   double arc_length_ = 0.0;
