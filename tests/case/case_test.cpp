@@ -334,7 +334,7 @@ TEST(ReadCaseErrors, SupportTypesAndSlidingDirection) {
   EXPECT_EQ(text_error(shell + "    - { group: a, type: clampd }\n"),
             at("inline.yaml", 7,
                "shell.supports[0].type: unknown value 'clampd'; did you mean 'clamped'? (one of: "
-               "clamped, simply_supported, symmetry, sliding, prescribed)"));
+               "clamped, simply_supported, symmetry, sliding, prescribed, simply_supported_hard)"));
   EXPECT_EQ(text_error(shell + "    - { group: a, type: sliding }\n"),
             at("inline.yaml", 7, "shell.supports[0]: missing required key 'direction'"));
   EXPECT_EQ(text_error(shell + "    - { group: a, type: sliding, direction: [0, 0, 0] }\n"),
@@ -538,6 +538,60 @@ TEST(ReadCase, ShellLoadsAndAnalysisParse) {
   EXPECT_EQ(s.analysis->type, ShellAnalysisType::dynamic);
   EXPECT_EQ(s.analysis->mass_damping, 0.5);
   EXPECT_DOUBLE_EQ(s.analysis->load_function.value(0.05), 1.0);
+}
+
+TEST(ReadCase, PrescribedAndHardSupportsSurfaceTractionAndStressOutput) {
+  const Case c = read_case_string(
+      kShellCase +
+          "  supports:\n"
+          "    - { group: a, type: prescribed, displacement: [0, 0, 0.01],\n"
+          "        history: { type: ramp, value: 1, duration: 0.5 },\n"
+          "        rotation_axis: [0, 3, 0], rotation_angle: { type: constant, value: 0.2 } }\n"
+          "    - { group: b, type: prescribed, displacement: [1, 0, 0] }\n"
+          "    - { group: c, type: simply_supported_hard }\n"
+          "    - { group: d, type: sliding, direction: [1, 1, 0] }\n"
+          "  loads:\n"
+          "    - { type: surface, traction: [0, 0, -50] }\n"
+          "    - { type: surface, group: top, traction: [1, 0, 0] }\n"
+          "output: { shell_stress: second_piola_kirchhoff }\n",
+      data("inline.yaml"));
+  ASSERT_TRUE(c.shell);
+  const auto& s = *c.shell;
+  ASSERT_EQ(s.supports.size(), 4u);
+  EXPECT_EQ(s.supports[0].type, SupportType::prescribed);
+  EXPECT_EQ(s.supports[0].displacement, Vec3(0, 0, 0.01));
+  ASSERT_TRUE(s.supports[0].displacement_history);
+  EXPECT_DOUBLE_EQ(s.supports[0].displacement_history->value(0.25), 0.5);
+  EXPECT_EQ(s.supports[0].rotation_axis, Vec3::UnitY());
+  EXPECT_EQ(s.supports[0].rotation_angle.value(3.0), 0.2);
+  EXPECT_FALSE(s.supports[1].displacement_history);  // follows the load factor
+  EXPECT_EQ(s.supports[1].rotation_axis, Vec3::Zero());
+  EXPECT_EQ(s.supports[2].type, SupportType::simply_supported_hard);
+  EXPECT_NEAR(s.supports[3].direction.x(), std::sqrt(0.5), 1e-15);
+  ASSERT_EQ(s.loads.size(), 2u);
+  EXPECT_EQ(s.loads[0].type, ShellLoadType::surface);
+  EXPECT_TRUE(s.loads[0].group.empty());
+  EXPECT_EQ(s.loads[0].vector, Vec3(0, 0, -50));
+  EXPECT_EQ(s.loads[1].group, "top");
+  EXPECT_EQ(c.output.shell_stress, OutputSection::ShellStress::second_piola_kirchhoff);
+  EXPECT_EQ(read_case_string(kShellCase, data("inline.yaml")).output.shell_stress,
+            OutputSection::ShellStress::cauchy);
+}
+
+TEST(ReadCaseErrors, PrescribedSupportKeys) {
+  EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: prescribed } ]\n"),
+            at("inline.yaml", 6, "shell.supports[0]: a prescribed support needs 'displacement' "
+                                 "[x, y, z] and/or 'rotation_axis' with 'rotation_angle'"));
+  EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: clamped, displacement: [0, 0, 1] } ]\n"),
+            at("inline.yaml", 6, "shell.supports[0].displacement: applies only to supports of type 'prescribed'"));
+  EXPECT_EQ(text_error(kShellCase +
+                       "  supports: [ { group: a, type: prescribed, rotation_axis: [1, 0, 0] } ]\n"),
+            at("inline.yaml", 6, "shell.supports[0]: missing required key 'rotation_angle'"));
+  EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: prescribed, displacement: [0, 0, 1],\n"
+                                    "                rotation_angle: { type: constant, value: 1 } } ]\n"),
+            at("inline.yaml", 7, "shell.supports[0].rotation_angle: needs 'rotation_axis' [x, y, z] beside it"));
+  EXPECT_EQ(text_error(kShellCase + "  loads: [ { type: surface } ]\n"),
+            at("inline.yaml", 6, "shell.loads[0]: missing required key 'traction'"));
 }
 
 TEST(ReadCaseErrors, ShellSupportsLoadsAndAnalysis) {

@@ -17,8 +17,8 @@ namespace {
 
 // Names of the enumerations as written in case files, indexed by enumerator value.
 constexpr std::array<std::string_view, 2> kMeshFormatNames = {"geo", "msh"};
-constexpr std::array<std::string_view, 5> kSupportNames = {"clamped", "simply_supported",
-                                                           "symmetry", "sliding", "prescribed"};
+constexpr std::array<std::string_view, 6> kSupportNames = {
+    "clamped", "simply_supported", "symmetry", "sliding", "prescribed", "simply_supported_hard"};
 constexpr std::array<std::string_view, 6> kFluidBoundaryNames = {
     "supersonic_inflow", "supersonic_outflow", "far_field",
     "slip_wall",         "no_slip_wall",       "symmetry"};
@@ -32,8 +32,8 @@ constexpr std::array<std::string_view, 2> kWeightingNames = {"plain", "area"};
 enum class TimeFunctionType { constant, ramp, sine, tabulated, step, smooth_step, expression };
 constexpr std::array<std::string_view, 7> kTimeFunctionNames = {
     "constant", "ramp", "sine", "tabulated", "step", "smooth_step", "expression"};
-constexpr std::array<std::string_view, 5> kShellLoadNames = {"line", "point", "edge_couple",
-                                                             "pressure", "gravity"};
+constexpr std::array<std::string_view, 6> kShellLoadNames = {
+    "line", "point", "edge_couple", "pressure", "gravity", "surface"};
 constexpr std::array<std::string_view, 2> kAnalysisNames = {"static", "dynamic"};
 
 constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
@@ -273,6 +273,24 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     } else if (item.has("normal")) {
       item.fail("normal", "applies only to supports of type 'symmetry'");
     }
+    if (s.type == SupportType::prescribed) {
+      if (!item.has("displacement") && !item.has("rotation_axis")) {
+        item.fail("a prescribed support needs 'displacement' [x, y, z] and/or 'rotation_axis' "
+                  "with 'rotation_angle'");
+      }
+      if (item.has("displacement")) s.displacement = item.vec3("displacement");
+      if (auto f = item.optional_child("history")) s.displacement_history = read_time_function(*f);
+      if (item.has("rotation_axis")) {
+        s.rotation_axis = unit_vector(item, "rotation_axis", item.vec3("rotation_axis"));
+        s.rotation_angle = read_time_function(item.child("rotation_angle"));
+      } else if (item.has("rotation_angle")) {
+        item.fail("rotation_angle", "needs 'rotation_axis' [x, y, z] beside it");
+      }
+    } else {
+      for (const char* key : {"displacement", "history", "rotation_axis", "rotation_angle"}) {
+        if (item.has(key)) item.fail(key, "applies only to supports of type 'prescribed'");
+      }
+    }
     item.finish();
     shell.supports.push_back(std::move(s));
   }
@@ -300,6 +318,10 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
         load.value = item.required<double>("pressure");
         break;
       case ShellLoadType::gravity: load.vector = item.vec3("acceleration"); break;
+      case ShellLoadType::surface:
+        if (item.has("group")) load.group = read_group(item, "shell", refs);
+        load.vector = item.vec3("traction");
+        break;
     }
     item.finish();
     shell.loads.push_back(std::move(load));
@@ -625,6 +647,11 @@ OutputSection read_output(const YamlNode& root, const std::string& case_name) {
       out.directory = *dir;
     }
     out.every = node->optional<int>("every", 1, Range::at_least(1));
+    const std::string stress =
+        node->choice("shell_stress", {"cauchy", "second_piola_kirchhoff", "none"}, "cauchy");
+    out.shell_stress = stress == "cauchy" ? OutputSection::ShellStress::cauchy
+                       : stress == "none" ? OutputSection::ShellStress::none
+                                          : OutputSection::ShellStress::second_piola_kirchhoff;
     node->finish();
   }
   return out;

@@ -63,7 +63,14 @@ struct Material {
   double density = 0.0;        ///< rho [kg/m^3], >= 0
 };
 
-enum class SupportType { clamped, simply_supported, symmetry, sliding, prescribed };
+enum class SupportType {
+  clamped,
+  simply_supported,  ///< soft: positions fixed, directors free
+  symmetry,
+  sliding,
+  prescribed,
+  simply_supported_hard,  ///< positions fixed and the director kept normal to the edge
+};
 
 struct Support {
   std::string group;  ///< physical group of the shell mesh
@@ -71,10 +78,15 @@ struct Support {
   Vec3 direction = Vec3::Zero();  ///< `sliding` only: unit vector of the allowed motion
   bool clamp_director = true;     ///< `sliding` only: director fixed (clamped-sliding)
   Vec3 normal = Vec3::Zero();     ///< `symmetry` only: unit normal of the symmetry plane
+  /// `prescribed` only: x = X + f(t) d and, with a rotation axis, G = R(g(t)) V.
+  Vec3 displacement = Vec3::Zero();                 ///< d [m]
+  std::optional<TimeFunction> displacement_history;  ///< f; absent: the analysis' load factor
+  Vec3 rotation_axis = Vec3::Zero();                ///< unit axis, or zero (director free)
+  TimeFunction rotation_angle = TimeFunction::constant(0.0);  ///< g [rad]
   SourceLocation where;           ///< the list item `shell.supports[i]`
 };
 
-enum class ShellLoadType { line, point, edge_couple, pressure, gravity };
+enum class ShellLoadType { line, point, edge_couple, pressure, gravity, surface };
 
 /// A load at load factor 1 (static) or scaled by the analysis' load function (dynamic).
 struct ShellLoad {
@@ -82,7 +94,8 @@ struct ShellLoad {
   std::string group;             ///< line, edge_couple: a line group; pressure: a surface
                                  ///< group or empty (the whole shell)
   Vec3 vector = Vec3::Zero();    ///< line: force per length [N/m]; point: force [N];
-                                 ///< gravity: acceleration [m/s^2]; edge_couple: axis (unit)
+                                 ///< gravity: acceleration [m/s^2]; edge_couple: axis (unit);
+                                 ///< surface: traction per reference area [Pa]
   double value = 0.0;            ///< edge_couple: moment per length [N]; pressure [Pa]
   Vec3 point = Vec3::Zero();     ///< point: where (the nearest shell node takes the force)
   SourceLocation where;
@@ -321,6 +334,8 @@ struct OutputSection {
   /// Default `out/<name>`; the command line's `-o` overrides it.
   std::filesystem::path directory;
   int every = 1;  ///< write fields every N steps (probes are written every step)
+  /// Stress written in the shell VTU at the bottom, middle and top surfaces.
+  enum class ShellStress { cauchy, second_piola_kirchhoff, none } shell_stress = ShellStress::cauchy;
 };
 
 // ---- the case -----------------------------------------------------------------------------------
