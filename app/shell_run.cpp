@@ -261,6 +261,7 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   const TimeFunction load_function = analysis.load_function;
   shell::NewmarkOptions options;
   options.mass_damping = analysis.mass_damping;
+  options.newton.modified = analysis.modified_newton;
   options.scheme = analysis.scheme == io::TimeScheme::midpoint ? shell::TimeScheme::midpoint
                                                                : shell::TimeScheme::newmark;
   shell::NewmarkSolver solver(model, options, [&](double t) { return load_function.value(t); });

@@ -118,6 +118,45 @@ void BM_Assembly(benchmark::State& state) {
 BENCHMARK(BM_Assembly)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Assembly)->ArgsProduct({{3}, {1, 2}})->Iterations(3)->Unit(benchmark::kMillisecond)->UseRealTime();
 
+/// The internal force alone (no tangent): the cost of a modified-Newton iteration's
+/// residual.
+void BM_InternalForce(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const ShellModel& model = model_for(static_cast<int>(state.range(0)));
+  state.SetLabel(name_of(static_cast<int>(state.range(0))));
+  const Eigen::VectorXd u = deformed_state(model);
+  Eigen::VectorXd f;
+  for (auto _ : state) {
+    model.assemble(u, f, nullptr);
+    benchmark::DoNotOptimize(f.data());
+  }
+}
+BENCHMARK(BM_InternalForce)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+/// The pieces of a modified-Newton iteration on the strip besides the internal force: one
+/// solve with a kept factorisation (Arg 0) and one product with the mass matrix (Arg 1).
+void BM_SolveAndMassProduct(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const ShellModel& model = model_for(0);
+  SparseMatrix K = model.make_matrix(), M = model.make_matrix();
+  Eigen::VectorXd f;
+  model.assemble(deformed_state(model), f, &K);
+  model.assemble_mass(M);
+  NewtonLinearSolver solver;
+  solver.factorize(K, model.constrained());
+  const Eigen::VectorXd rhs = model.reference_load() - f;
+  state.SetLabel(state.range(0) == 0 ? "solve strip244" : "M v strip244");
+  for (auto _ : state) {
+    Eigen::VectorXd x = rhs;
+    if (state.range(0) == 0)
+      solver.solve(x);
+    else
+      x = M * rhs;
+    benchmark::DoNotOptimize(x.data());
+  }
+}
+BENCHMARK(BM_SolveAndMassProduct)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 /// Factorisation + solve alone on the strip: Eigen SimplicialLDLT with AMD on the full
 /// matrix (the previous NewtonLinearSolver), SparseLU, and NewtonLinearSolver (reduced
 /// system, node-graph AMD, value map; includes eliminating the supports and the copies).
@@ -166,23 +205,32 @@ void BM_Factorisation(benchmark::State& state) {
 BENCHMARK(BM_Factorisation)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 
 /// One Newmark step of the reference strip (Newton to the §8 tolerances), free vibration
-/// from a uniform initial transverse velocity, Δt = 1e-4 s (~T1/320).
+/// from a uniform initial transverse velocity, Δt = 1e-4 s (~T1/320). Arg: 0 full Newton,
+/// 1 modified Newton (NewtonOptions::modified).
 void BM_NewmarkStepStrip(benchmark::State& state) {
   omp_set_num_threads(1);
   const ShellModel& model = model_for(0);
+  state.SetLabel(state.range(0) ? "modified Newton" : "full Newton");
   Eigen::VectorXd v = Eigen::VectorXd::Zero(model.num_dofs());
   for (Index n = 0; n < model.num_nodes(); ++n)
     if (!model.constrained()[static_cast<std::size_t>(7 * n + 1)]) v(7 * n + 1) = 0.1;
-  NewmarkSolver solver(model);
+  NewmarkOptions options;
+  options.newton.modified = state.range(0) >= 1;
+  if (state.range(0) == 2) options.newton.refresh_ratio = 0.5;
+  if (state.range(0) == 3) options.newton.refresh_ratio = 0.9;
+  NewmarkSolver solver(model, options);
   solver.set_initial_state(Eigen::VectorXd::Zero(model.num_dofs()), v);
   int iterations = 0, steps = 0;
+  const int factorizations_before = solver.matrix_factorizations();
   for (auto _ : state) {
     iterations += solver.advance(1e-4);
     ++steps;
   }
   state.counters["newton_its_per_step"] = static_cast<double>(iterations) / std::max(1, steps);
+  state.counters["factorizations_per_step"] =
+      static_cast<double>(solver.matrix_factorizations() - factorizations_before) / std::max(1, steps);
 }
-BENCHMARK(BM_NewmarkStepStrip)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_NewmarkStepStrip)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 /// The whole Sze 3.1 static run on the 8x1 cubic mesh (20 load steps to P_max = 4, Newton
 /// to the §8 tolerances), one thread, meshing excluded (the target: <= 0.2 s).

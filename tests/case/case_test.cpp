@@ -538,6 +538,7 @@ TEST(ReadCase, ShellLoadsAndAnalysisParse) {
   EXPECT_EQ(s.analysis->type, ShellAnalysisType::dynamic);
   EXPECT_EQ(s.analysis->mass_damping, 0.5);
   EXPECT_DOUBLE_EQ(s.analysis->load_function.value(0.05), 1.0);
+  EXPECT_FALSE(s.analysis->modified_newton);
 }
 
 TEST(ReadCase, PrescribedAndHardSupportsSurfaceTractionAndStressOutput) {
@@ -803,9 +804,10 @@ TEST(ReadCase, ShellPathControlAndTimeScheme) {
   EXPECT_EQ(a.shell->analysis->initial_load_increment, 0.05);
   EXPECT_EQ(a.shell->analysis->final_load_factor, 3.0);
   const Case m = read_case_string(
-      head + "  analysis: { type: dynamic, scheme: midpoint }\ntime: { end: 1, step: 0.1 }\n",
+      head + "  analysis: { type: dynamic, scheme: midpoint, newton: modified }\ntime: { end: 1, step: 0.1 }\n",
       data("inline.yaml"));
   EXPECT_EQ(m.shell->analysis->scheme, TimeScheme::midpoint);
+  EXPECT_TRUE(m.shell->analysis->modified_newton);
   EXPECT_EQ(text_error(head + "  analysis: { type: static, control: displacement,\n"
                               "              controlled: { group: panel, node: 3, component: y },\n"
                               "              final_value: 1 }\n"),

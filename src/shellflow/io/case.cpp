@@ -359,6 +359,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
       analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint"
                             ? TimeScheme::midpoint
                             : TimeScheme::newmark;
+      analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
     }
     a->finish();
     shell.analysis = std::move(analysis);

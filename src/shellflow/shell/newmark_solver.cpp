@@ -55,6 +55,29 @@ Vec3 NewmarkSolver::angular_momentum() const {
   return l;
 }
 
+bool NewmarkSolver::needs_new_matrix(double mass_coefficient) const {
+  return !options_.newton.modified || !matrix_factorized_ || refresh_matrix_ ||
+         factorized_mass_coefficient_ != mass_coefficient;
+}
+
+bool NewmarkSolver::factorize_iteration_matrix(double tangent_weight, double mass_coefficient) {
+  // H on the common pattern of K and M.
+  double* h = K_.valuePtr();
+  const double* m = M_.valuePtr();
+  for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] = tangent_weight * h[i] + mass_coefficient * m[i];
+  ++matrix_factorizations_;
+  matrix_factorized_ = linear_solver_.factorize(K_);
+  factorized_mass_coefficient_ = mass_coefficient;
+  refresh_matrix_ = false;
+  return matrix_factorized_;
+}
+
+void NewmarkSolver::record_residual(int iteration, double residual_norm) {
+  if (options_.newton.modified && iteration > 1 && residual_norm > options_.newton.refresh_ratio * last_residual_)
+    refresh_matrix_ = true;
+  last_residual_ = residual_norm;
+}
+
 int NewmarkSolver::try_step(double dt) {
   return options_.scheme == TimeScheme::midpoint ? try_midpoint_step(dt) : try_newmark_step(dt);
 }
@@ -73,19 +96,19 @@ int NewmarkSolver::try_newmark_step(double dt) {
   Eigen::VectorXd u = u_;  // predictor y_{s+1}^(0) = y_s (papers' practice)
   model_.apply_prescribed(t_next, u);
   for (int it = 1; it <= options_.newton.max_iterations; ++it) {
-    if (!model_.assemble(u, f_int_, &K_)) return -1;
+    const bool new_matrix = needs_new_matrix(mass_coefficient);
+    if (!model_.assemble(u, f_int_, new_matrix ? &K_ : nullptr)) return -1;
     Eigen::VectorXd f_ext = lf * model_.reference_load();
-    model_.add_follower_loads(u, lf, f_ext, &K_);
+    model_.add_follower_loads(u, lf, f_ext, new_matrix ? &K_ : nullptr);
     const Eigen::VectorXd Mu = M_ * u;
     const Eigen::VectorXd g = f_int_ - f_ext + mass_coefficient * Mu + inertia_history;
-    // H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M, on the common pattern.
-    double* h = K_.valuePtr();
-    const double* m = M_.valuePtr();
-    for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] += mass_coefficient * m[i];
+    // H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M.
+    if (new_matrix && !factorize_iteration_matrix(1.0, mass_coefficient)) return -1;
     const double force_scale = std::max({model_.free_norm(f_ext), model_.free_norm(f_int_),
                                          model_.free_norm(Mu / (beta * dt * dt) - MQ)});
+    record_residual(it, model_.free_norm(g));
     Eigen::VectorXd du = -g;
-    if (!linear_solver_.solve(K_, du)) return -1;
+    if (!linear_solver_.solve(du)) return -1;
     u += du;
     if (!u.allFinite()) return -1;
     if (newton_converged(model_, options_.newton, du, g, force_scale)) {
@@ -119,21 +142,21 @@ int NewmarkSolver::try_midpoint_step(double dt) {
   Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a`)
   model_.apply_prescribed(time_ + dt, u);
   for (int it = 1; it <= options_.newton.max_iterations; ++it) {
+    const bool new_matrix = needs_new_matrix(mass_coefficient);
     const Eigen::VectorXd u_mid = 0.5 * (u_ + u);
-    if (!model_.assemble(u_mid, f_int_, &K_)) return -1;
+    if (!model_.assemble(u_mid, f_int_, new_matrix ? &K_ : nullptr)) return -1;
     Eigen::VectorXd f_ext = lf * model_.reference_load();
-    model_.add_follower_loads(u_mid, lf, f_ext, &K_);
+    model_.add_follower_loads(u_mid, lf, f_ext, new_matrix ? &K_ : nullptr);
     const Eigen::VectorXd M_du = M_ * (u - u_);
     const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
     const Eigen::VectorXd g = f_int_ - f_ext + M_acceleration + (cm / dt) * M_du;
-    // H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M, on the common pattern.
-    double* h = K_.valuePtr();
-    const double* m = M_.valuePtr();
-    for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] = 0.5 * h[i] + mass_coefficient * m[i];
+    // H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M.
+    if (new_matrix && !factorize_iteration_matrix(0.5, mass_coefficient)) return -1;
     const double force_scale =
         std::max({model_.free_norm(f_ext), model_.free_norm(f_int_), model_.free_norm(M_acceleration)});
+    record_residual(it, model_.free_norm(g));
     Eigen::VectorXd du = -g;
-    if (!linear_solver_.solve(K_, du)) return -1;
+    if (!linear_solver_.solve(du)) return -1;
     u += du;
     if (!u.allFinite()) return -1;
     if (newton_converged(model_, options_.newton, du, g, force_scale)) {
@@ -153,10 +176,18 @@ int NewmarkSolver::advance(double dt) {
   // Sub-steps of dt / 2^level; one failure halves the remaining sub-steps' size.
   const double t_end = time_ + dt;
   int level = 0, iterations = 0;
+  bool retried_with_new_matrix = false;
   while (time_ < t_end - 1e-12 * dt) {
     const double h = std::min(dt / static_cast<double>(1 << level), t_end - time_);
+    const bool stale_matrix = options_.newton.modified && matrix_factorized_;
     const int its = try_step(h);
     if (its < 0) {
+      matrix_factorized_ = false;
+      if (stale_matrix && !retried_with_new_matrix) {  // modified Newton: retry with a fresh matrix
+        retried_with_new_matrix = true;
+        continue;
+      }
+      retried_with_new_matrix = false;
       if (++level > options_.newton.max_cutbacks)
         throw SolverError(fmt::format(
             "shell dynamics: Newton did not converge at t = {:.6g} s (step {:.3g} s halved {} times); reduce the "

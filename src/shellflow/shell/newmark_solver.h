@@ -63,6 +63,9 @@ class NewmarkSolver {
   /// is a multiple of the identity.
   Vec3 angular_momentum() const;
   const SparseMatrix& mass() const { return M_; }
+  /// Factorisations of the iteration matrix so far (one per Newton iteration unless
+  /// NewtonOptions::modified).
+  int matrix_factorizations() const { return matrix_factorizations_; }
   const NewmarkOptions& options() const { return options_; }
 
  private:
@@ -71,6 +74,14 @@ class NewmarkSolver {
   int try_newmark_step(double dt);
   int try_midpoint_step(double dt);
   double load_factor_at(double t) const { return load_factor_ ? load_factor_(t) : 0.0; }
+  /// Whether this iteration assembles and factorises the iteration matrix
+  /// H = tangent_weight K + mass_coefficient M (always, unless NewtonOptions::modified).
+  bool needs_new_matrix(double mass_coefficient) const;
+  /// H from the K_ just assembled, factorised; false when singular.
+  bool factorize_iteration_matrix(double tangent_weight, double mass_coefficient);
+  /// Records the residual norm of an iteration (modified Newton: a poor contraction asks for
+  /// a new matrix at the next iteration).
+  void record_residual(int iteration, double residual_norm);
 
   const ShellModel& model_;
   NewmarkOptions options_;
@@ -80,6 +91,12 @@ class NewmarkSolver {
   SparseMatrix M_, K_;
   Eigen::VectorXd f_int_;
   ShellSystemSolver linear_solver_;
+  // Modified Newton state: the factorised H and the mass coefficient it was made with.
+  bool matrix_factorized_ = false;
+  bool refresh_matrix_ = false;
+  double factorized_mass_coefficient_ = 0.0;
+  double last_residual_ = 0.0;
+  int matrix_factorizations_ = 0;
   std::vector<char> inertial_fixed_;  ///< constrained dofs plus every `a` (no inertia)
 };
 

@@ -17,6 +17,14 @@ struct NewtonOptions {
   double residual_tolerance = 1e-6;  ///< on ‖g‖ relative to the force scale
   int max_iterations = 25;
   int max_cutbacks = 5;              ///< halvings of a failed increment before giving up
+  /// Modified Newton (NewmarkSolver only): keep the factorised iteration matrix across
+  /// iterations and steps, and assemble and factorise it again only when an iteration
+  /// reduces the residual by less than `refresh_ratio`, the step size changes, or a step
+  /// fails (which is then retried once with a fresh matrix before it is halved). The
+  /// converged states meet the same tests; an iteration costs an internal-force assembly and
+  /// a solve instead of a tangent assembly and a factorisation.
+  bool modified = false;
+  double refresh_ratio = 0.5;
 };
 
 /// Result of one converged load level.
