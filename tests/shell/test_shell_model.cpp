@@ -71,6 +71,10 @@ TEST(ShellModel, BadInputStopsWithAMessage) {
   bad.thickness = 1.0;
   bad.material.poisson = 0.5;
   EXPECT_THROW(ShellModel(model.mesh(), bad), InputError);
+  bad.material.poisson = -1.0;
+  EXPECT_THROW(ShellModel(model.mesh(), bad), InputError);
+  bad.material.poisson = -0.3;  // auxetic: admissible (positive definite), as the case file allows
+  EXPECT_NO_THROW(ShellModel(model.mesh(), bad));
   // A flipped element: reverse one triangle's orientation (kink in the nodal normals).
   mesh::Mesh flipped = model.mesh();
   auto& c = flipped.cells.connectivity;  // Tri10: swap vertices 1 and 2 and the edge nodes

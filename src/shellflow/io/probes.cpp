@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <memory>
 
 #include "shellflow/fem/reference_element.h"
 #include "shellflow/mesh/spatial_index.h"
@@ -53,11 +55,37 @@ std::vector<std::string> probe_names(const std::vector<Probe>& probes) {
   return names;
 }
 
+/// Search trees of the meshes, built on the first point probe of each mesh: one tree over a
+/// 1e6-tet mesh costs far more than locating any number of points in it.
+class Locators {
+ public:
+  const mesh::CellLocator& cells(const mesh::Mesh& m) {
+    auto& locator = cell_locators_[&m];
+    if (!locator) locator = std::make_unique<mesh::CellLocator>(m);
+    return *locator;
+  }
+
+  struct Surface {
+    mesh::SurfaceLocator locator;
+    double size;  ///< diagonal of the bounding box, scales the distance check
+  };
+  const Surface& surface(const mesh::Mesh& m) {
+    auto& surface = surfaces_[&m];
+    if (!surface) surface = std::make_unique<Surface>(Surface{{m.nodes, m.cells}, mesh_size(m)});
+    return *surface;
+  }
+
+ private:
+  std::map<const mesh::Mesh*, std::unique_ptr<mesh::CellLocator>> cell_locators_;
+  std::map<const mesh::Mesh*, std::unique_ptr<Surface>> surfaces_;
+};
+
 }  // namespace
 
 ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
                    const std::filesystem::path& csv_path)
     : writer_(csv_path, probe_names(probes)) {
+  Locators locators;
   for (const Probe& p : probes) {
     const mesh::Mesh* m = meshes.find(p.mesh);
     if (!m) throw_at(p.where, fmt::format("the case has no {} mesh", p.mesh));
@@ -76,7 +104,7 @@ ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
         break;
       case ProbeLocation::point: {
         if (m->dim() == 3) {
-          const auto hit = mesh::CellLocator(*m).locate(p.point, 1e-9);
+          const auto hit = locators.cells(*m).locate(p.point, 1e-9);
           if (!hit) {
             throw_at(p.where, fmt::format("point ({}, {}, {}) lies outside the {} mesh; move it "
                                           "into the domain",
@@ -86,8 +114,9 @@ ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
           located.nodes.assign(cell.begin(), cell.end());
           located.weights = shape_values(static_cast<int>(m->cells.type), hit->xi.data());
         } else {
-          const auto hit = mesh::SurfaceLocator(m->nodes, m->cells).closest(p.point);
-          if (hit.distance > 1e-6 * mesh_size(*m)) {
+          const auto& surface = locators.surface(*m);
+          const auto hit = surface.locator.closest(p.point);
+          if (hit.distance > 1e-6 * surface.size) {
             throw_at(p.where, fmt::format("point ({}, {}, {}) is {:.3g} m away from the {} "
                                           "surface; put it on the surface",
                                           p.point.x(), p.point.y(), p.point.z(), hit.distance,

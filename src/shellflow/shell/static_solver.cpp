@@ -114,15 +114,8 @@ std::vector<LoadStep> StaticSolver::run(int num_steps, double final_load_factor,
     int iterations = 0;
     while (load_factor_ != target) {
       const double next = std::abs(target - load_factor_) <= std::abs(increment) ? target : load_factor_ + increment;
-      // Predictor: the last converged increment scaled to this one (secant extrapolation
-      // of the path); Newton then starts near the new equilibrium instead of at the last.
-      const Eigen::VectorXd u_before = u_;
-      const double load_before = load_factor_;
-      if (options_.extrapolate && last_converged_.size() == u_.size() && last_converged_load_ != 0.0)
-        u_ += ((next - load_factor_) / last_converged_load_) * last_converged_;
       const int its = solve(next);
       if (its < 0) {
-        u_ = u_before;
         if (++cutbacks > options_.max_cutbacks)
           throw SolverError(fmt::format(
               "shell statics: Newton did not converge at load factor {:.6g} (step {} of {}) after {} cut-backs; "
@@ -131,8 +124,6 @@ std::vector<LoadStep> StaticSolver::run(int num_steps, double final_load_factor,
         increment *= 0.5;
         continue;
       }
-      last_converged_ = u_ - u_before;
-      last_converged_load_ = next - load_before;
       iterations += its;
       cutbacks = 0;
     }
@@ -149,7 +140,6 @@ void StaticSolver::set_state(const Eigen::VectorXd& u, double load_factor) {
   u_ = u;
   load_factor_ = load_factor;
   last_increment_.resize(0);
-  last_converged_.resize(0);
 }
 
 Eigen::VectorXd StaticSolver::load_direction() const {

@@ -24,9 +24,6 @@ struct NewtonOptions {
   /// converged states meet the same tests; an iteration costs an internal-force assembly and
   /// a solve instead of a tangent assembly and a factorisation.
   bool modified = false;
-  /// Load stepping (StaticSolver::run): start each increment's Newton iteration from the
-  /// last converged increment scaled to the new one instead of from the last state.
-  bool extrapolate = true;
   double refresh_ratio = 0.5;
 };
 
@@ -143,9 +140,6 @@ class StaticSolver {
   /// Arc-length state kept between calls: last converged increment and Δl.
   Eigen::VectorXd last_increment_;
   double arc_length_ = 0.0;
-  /// Load stepping: the last converged increment and its load-factor increment.
-  Eigen::VectorXd last_converged_;
-  double last_converged_load_ = 0.0;
   double initial_arc_length_ = 0.0;
 };
 
