@@ -192,10 +192,15 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   const double end = steady ? static_cast<double>(analysis.steps) : c.time->end;
   Progress progress(0.0, end);
   long step = 0;
+  double first_density_rate = 0.0;
+  bool converged = false;
   try {
-    while (steady ? step < analysis.steps : model.time() < c.time->end * (1 - 1e-12)) {
+    while (steady ? step < analysis.steps && !converged : model.time() < c.time->end * (1 - 1e-12)) {
       if (steady) {
         model.step_local(analysis.cfl);
+        if (step == 0) first_density_rate = model.density_rate();
+        converged = analysis.residual_drop &&
+                    model.density_rate() <= *analysis.residual_drop * first_density_rate;
       } else if (motion) {
         const double dt = std::min(model.stable_dt(analysis.cfl), c.time->end - model.time());
         const double t_next = model.time() + dt;
@@ -209,7 +214,8 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
         model.step(std::min(model.stable_dt(analysis.cfl), c.time->end - model.time()));
       }
       ++step;
-      const bool last = steady ? step == analysis.steps : model.time() >= c.time->end * (1 - 1e-12);
+      const bool last =
+          steady ? step == analysis.steps || converged : model.time() >= c.time->end * (1 - 1e-12);
       record(step, step % c.output.every == 0 || last);
       progress.update(steady ? static_cast<double>(step) : model.time(), step);
     }
@@ -221,8 +227,14 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   }
   progress.finish();
   if (steady) {
-    spdlog::info("steady flow: {} local steps, final density rate {:.3e}", step,
-                 model.density_rate());
+    spdlog::info("steady flow: {} local steps, density rate {:.3e} ({:.2e} of the first step's)",
+                 step, model.density_rate(),
+                 model.density_rate() / std::max(first_density_rate, 1e-300));
+    if (analysis.residual_drop && !converged) {
+      spdlog::warn("steady flow: the density rate did not drop to {:g} of its first value in {} "
+                   "steps; raise analysis.steps (or check the case)",
+                   *analysis.residual_drop, analysis.steps);
+    }
   } else {
     spdlog::info("flow: {} steps to t = {:.6g} s", step, model.time());
   }

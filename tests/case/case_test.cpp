@@ -649,6 +649,16 @@ TEST(ReadCaseErrors, FluidAnalysis) {
   EXPECT_EQ(text_error(kFluidCase +
                        "  analysis: { type: steady, consistent_mass_iterations: 3, cfl: 0.9 }\n"),
             at("inline.yaml", 5, "fluid.analysis.cfl: must be in (0, 0.6], got 0.9"));
+  EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: steady, residual_drop: 2 }\n"),
+            at("inline.yaml", 5, "fluid.analysis.residual_drop: must be in (0, 1), got 2; e.g. 1e-6 "
+                                 "stops once the density rate has dropped by six orders"));
+  EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: transient, residual_drop: 1e-3 }\ntime: { end: 1 }\n"),
+            at("inline.yaml", 5, "fluid.analysis.residual_drop: applies only to analyses of type 'steady'"));
+  const Case steady = read_case_string(kFluidCase + "  analysis: { type: steady, residual_drop: 1e-5 }\n",
+                                       data("inline.yaml"));
+  EXPECT_EQ(steady.fluid->analysis->residual_drop, 1e-5);
+  EXPECT_FALSE(read_case_string(kFluidCase + "  analysis: { type: steady }\n", data("inline.yaml"))
+                   .fluid->analysis->residual_drop);
 }
 
 TEST(ReadCase, TimeFunctionsStepAndExpression) {

@@ -456,6 +456,14 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
         Range{0.0, analysis.consistent_mass_iterations > 0 ? 0.6 : 1.0, true, false});
     if (analysis.type == FluidAnalysisType::steady) {
       analysis.steps = a->optional<int>("steps", 1000, Range::at_least(1));
+      analysis.residual_drop = a->maybe<double>("residual_drop");
+      if (analysis.residual_drop && !(*analysis.residual_drop > 0.0 && *analysis.residual_drop < 1.0)) {
+        a->fail("residual_drop", fmt::format("must be in (0, 1), got {}; e.g. 1e-6 stops once the "
+                                             "density rate has dropped by six orders",
+                                             *analysis.residual_drop));
+      }
+    } else if (a->has("residual_drop")) {
+      a->fail("residual_drop", "applies only to analyses of type 'steady'");
     }
     if (auto r = a->optional_child("riemann")) {
       RiemannInitial riemann;

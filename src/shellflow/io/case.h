@@ -238,7 +238,9 @@ enum class FluidAnalysisType { transient, steady };
 struct FluidAnalysis {
   FluidAnalysisType type = FluidAnalysisType::transient;
   double cfl = 0.5;                    ///< (0, 1] lumped mass, (0, 0.6] consistent
-  int steps = 1000;                    ///< steady: local time steps
+  int steps = 1000;                    ///< steady: local time steps (at most)
+  /// steady: stop once the density rate is below this fraction of its first-step value
+  std::optional<double> residual_drop;
   double q_dif = 0.0;                  ///< artificial viscosity coefficient (paper eq. 28)
   int consistent_mass_iterations = 0;  ///< 0: lumped mass
   std::optional<RiemannInitial> riemann;  ///< initial state; absent: `initial` or the free stream
