@@ -102,12 +102,9 @@ TEST(ShellSupports, LocalBasisTransformIsTransposeKTimesT) {
   EXPECT_EQ(fixed, 1);
 }
 
-/// Cantilever strip in cylindrical bending (symmetry planes on the long edges), its right
-/// end on a roller along the strip with clamped director, loaded by a traction normal to the
-/// strip and an axial pull. The same model rotated by Q, with the planes and the roller along
-/// the rotated directions, must give Q times the displacements.
-Eigen::VectorXd roller_strip(const Mat3& Q, bool directional, int* iterations) {
-  ShellModel model = strip(Q);
+/// Clamped left end, symmetry planes on the long edges, right end on a roller along the
+/// strip with clamped director: along the axes (Support) or along Q's axes (directional).
+void add_roller_strip_supports(ShellModel& model, const Mat3& Q, bool directional) {
   model.add_support(Support::clamped("left"));
   if (directional) {
     model.add_support(DirectionalSupport::symmetry_plane("bottom", Q * Vec3::UnitY()));
@@ -118,6 +115,15 @@ Eigen::VectorXd roller_strip(const Mat3& Q, bool directional, int* iterations) {
     model.add_support(Support::symmetry_plane("top", 1));
     model.add_support(Support::sliding("right", 0, true));
   }
+}
+
+/// Cantilever strip in cylindrical bending (symmetry planes on the long edges), its right
+/// end on a roller along the strip with clamped director, loaded by a traction normal to the
+/// strip and an axial pull. The same model rotated by Q, with the planes and the roller along
+/// the rotated directions, must give Q times the displacements.
+Eigen::VectorXd roller_strip(const Mat3& Q, bool directional, int* iterations) {
+  ShellModel model = strip(Q);
+  add_roller_strip_supports(model, Q, directional);
   model.add_surface_traction({"", Q * Vec3(0.0, 0.0, 2e3)});  // deflection ~ h: nonlinear
   model.add_line_load({"right", Q * Vec3(1e5, 0.0, 0.0)});
   Eigen::VectorXd u = Eigen::VectorXd::Zero(model.num_dofs());
@@ -220,16 +226,7 @@ TEST(ShellSupports, DynamicsWithRotatedSupportsGivesTheRotatedMotion) {
       ShellModel model(testing::structured_shell_mesh(1.0, 0.1, 6, 1,
                                                       [&](double x, double y) { return Vec3(Q * Vec3(x, y, 0.0)); }),
                        s);
-      model.add_support(Support::clamped("left"));
-      if (directional) {
-        model.add_support(DirectionalSupport::symmetry_plane("bottom", Q * Vec3::UnitY()));
-        model.add_support(DirectionalSupport::symmetry_plane("top", Q * Vec3::UnitY()));
-        model.add_support(DirectionalSupport::roller("right", Q * Vec3::UnitX(), true));
-      } else {
-        model.add_support(Support::symmetry_plane("bottom", 1));
-        model.add_support(Support::symmetry_plane("top", 1));
-        model.add_support(Support::sliding("right", 0, true));
-      }
+      add_roller_strip_supports(model, Q, directional);
       model.add_surface_traction({"", Q * Vec3(0.0, 0.0, 2e3)});
       NewmarkOptions options;
       options.scheme = scheme;

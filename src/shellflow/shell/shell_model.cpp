@@ -537,13 +537,22 @@ void ShellModel::add_prescribed_motion(const PrescribedMotion& motion) {
   prescribed_nodes_.push_back(group.nodes);
 }
 
+namespace {
+
+/// R(g(t)) of a prescribed motion; the identity when its directors are free.
+Mat3 director_rotation(const PrescribedMotion& m, double t) {
+  if (m.rotation_axis == Vec3::Zero()) return Mat3::Identity();
+  return Eigen::AngleAxisd(m.rotation_angle.value(t), m.rotation_axis).toRotationMatrix();
+}
+
+}  // namespace
+
 void ShellModel::apply_prescribed(double t, Eigen::VectorXd& u) const {
   for (std::size_t k = 0; k < prescribed_.size(); ++k) {
     const PrescribedMotion& m = prescribed_[k];
     const Vec3 dx = m.displacement_history.value(t) * m.displacement;
     const bool rotates = m.rotation_axis != Vec3::Zero();
-    const Mat3 R = Eigen::AngleAxisd(rotates ? m.rotation_angle.value(t) : 0.0, rotates ? m.rotation_axis : Vec3::UnitZ())
-                       .toRotationMatrix();
+    const Mat3 R = director_rotation(m, t);
     for (Index n : prescribed_nodes_[k]) {
       u.segment<3>(dofs_per_node * n) = dx;
       if (rotates) {
@@ -559,8 +568,7 @@ void ShellModel::apply_prescribed_velocity(double t, Eigen::VectorXd& v) const {
     const PrescribedMotion& m = prescribed_[k];
     const Vec3 dx = m.displacement_history.derivative(t) * m.displacement;
     const bool rotates = m.rotation_axis != Vec3::Zero();
-    const Mat3 R = Eigen::AngleAxisd(rotates ? m.rotation_angle.value(t) : 0.0, rotates ? m.rotation_axis : Vec3::UnitZ())
-                       .toRotationMatrix();
+    const Mat3 R = director_rotation(m, t);
     const Vec3 omega = rotates ? Vec3(m.rotation_angle.derivative(t) * m.rotation_axis) : Vec3::Zero();
     for (Index n : prescribed_nodes_[k]) {
       v.segment<3>(dofs_per_node * n) = dx;
