@@ -196,7 +196,9 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   };
 
   if (analysis.type == io::ShellAnalysisType::static_load) {
-    shell::StaticSolver solver(model);
+    shell::NewtonOptions newton;
+    newton.modified = analysis.modified_newton;
+    shell::StaticSolver solver(model, newton);
     record(0, 0.0, solver.displacement(), nullptr, true);
     long step = 0;
     auto on_level = [&](const shell::LoadStep& level, bool last) {

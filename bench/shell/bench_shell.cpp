@@ -8,6 +8,7 @@
 
 #include <Eigen/SparseLU>
 #include <benchmark/benchmark.h>
+#include <fmt/format.h>
 #include <omp.h>
 
 #include "shellflow/mesh/gmsh_io.h"
@@ -240,15 +241,21 @@ void BM_Sze31FullRun(benchmark::State& state) {
   omp_set_num_threads(1);
   const ShellModel& model = model_for(1);
   int iterations = 0, runs = 0;
+  NewtonOptions options;
+  options.modified = state.range(0) >= 1;
+  if (state.range(0) == 2) options.refresh_ratio = 0.25;
+  if (state.range(0) == 3) options.refresh_ratio = 0.8;
+  state.SetLabel(options.modified ? fmt::format("modified Newton, refresh ratio {}", options.refresh_ratio)
+                                  : std::string("full Newton"));
   for (auto _ : state) {
-    StaticSolver solver(model);
+    StaticSolver solver(model, options);
     for (const LoadStep& s : solver.run(20, 1.0)) iterations += s.iterations;
     ++runs;
     benchmark::DoNotOptimize(solver.displacement().data());
   }
   state.counters["newton_its"] = static_cast<double>(iterations) / std::max(1, runs);
 }
-BENCHMARK(BM_Sze31FullRun)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Sze31FullRun)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace shellflow::shell

@@ -818,6 +818,9 @@ TEST(ReadCase, ShellPathControlAndTimeScheme) {
       data("inline.yaml"));
   EXPECT_EQ(m.shell->analysis->scheme, TimeScheme::midpoint);
   EXPECT_TRUE(m.shell->analysis->modified_newton);
+  EXPECT_EQ(text_error(head + "  analysis: { type: static, control: arc_length, newton: modified }\n"),
+            at("inline.yaml", 6, "shell.analysis.newton: 'modified' applies to load control and dynamics; "
+                                 "displacement control and arc length use full Newton"));
   EXPECT_EQ(text_error(head + "  analysis: { type: static, control: displacement,\n"
                               "              controlled: { group: panel, node: 3, component: y },\n"
                               "              final_value: 1 }\n"),

@@ -359,7 +359,12 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
       analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint"
                             ? TimeScheme::midpoint
                             : TimeScheme::newmark;
-      analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
+    }
+    analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
+    if (analysis.modified_newton && analysis.type == ShellAnalysisType::static_load &&
+        analysis.control != PathControl::load) {
+      a->fail("newton", "'modified' applies to load control and dynamics; displacement control "
+                        "and arc length use full Newton");
     }
     a->finish();
     shell.analysis = std::move(analysis);

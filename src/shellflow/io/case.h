@@ -125,7 +125,7 @@ struct ShellAnalysis {
   TimeFunction load_function = TimeFunction::constant(1.0);  ///< dynamic: load factor(t)
   double mass_damping = 0.0;     ///< dynamic: c_m in C = c_m M [1/s]
   TimeScheme scheme = TimeScheme::newmark;  ///< dynamic
-  bool modified_newton = false;  ///< dynamic: keep the iteration matrix (NewtonOptions::modified)
+  bool modified_newton = false;  ///< load control, dynamic: keep the iteration matrix (NewtonOptions::modified)
   SourceLocation where;
 };
 

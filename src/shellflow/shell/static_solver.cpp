@@ -62,14 +62,29 @@ int StaticSolver::solve(double load_factor) {
     return -1;
   }
   Eigen::VectorXd f_ext;
+  double last_residual = 0.0;
   for (int it = 1; it <= options_.max_iterations; ++it) {
-    if (!model_.assemble(u_, f_int_, &K_)) break;
+    // Modified Newton keeps the factorised tangent (of an earlier iteration or level) until
+    // an iteration contracts the residual by less than refresh_ratio.
+    const bool new_tangent = !options_.modified || !tangent_kept_;
+    if (!model_.assemble(u_, f_int_, new_tangent ? &K_ : nullptr)) break;
     f_ext = load_factor * model_.reference_load();
-    model_.add_follower_loads(u_, load_factor, f_ext, &K_);
+    model_.add_follower_loads(u_, load_factor, f_ext, new_tangent ? &K_ : nullptr);
     Eigen::VectorXd rhs = f_ext - f_int_;  // -g
     const double force_scale = force_scale_of(model_, f_ext, f_int_);
     const Eigen::VectorXd residual = -rhs;
-    if (!linear_solver_.solve(K_, rhs)) break;
+    const double residual_norm = model_.free_norm(rhs);
+    if (options_.modified && it > 1 && residual_norm > options_.refresh_ratio * last_residual && !new_tangent) {
+      tangent_kept_ = false;  // poor contraction: this iteration again with a new tangent
+      --it;
+      continue;
+    }
+    last_residual = residual_norm;
+    if (new_tangent) {
+      tangent_kept_ = linear_solver_.factorize(K_);
+      if (!tangent_kept_) break;
+    }
+    if (!linear_solver_.solve(rhs)) break;
     u_ += rhs;
     if (!u_.allFinite()) break;
     // The residual tested is the one before this correction; together with a small
@@ -80,6 +95,7 @@ int StaticSolver::solve(double load_factor) {
     }
   }
   u_ = u_start;
+  tangent_kept_ = false;
   return -1;
 }
 
@@ -97,6 +113,7 @@ bool StaticSolver::predict_prescribed(double load_factor) {
   Eigen::VectorXd rhs = load_factor * model_.reference_load();
   model_.add_follower_loads(u_, load_factor, rhs, &K_);
   rhs -= f_int_ + K_ * jump;
+  tangent_kept_ = false;
   if (!linear_solver_.solve(K_, rhs)) return false;
   u_ = target + rhs;
   return u_.allFinite();
@@ -140,6 +157,7 @@ void StaticSolver::set_state(const Eigen::VectorXd& u, double load_factor) {
   u_ = u;
   load_factor_ = load_factor;
   last_increment_.resize(0);
+  tangent_kept_ = false;
 }
 
 Eigen::VectorXd StaticSolver::load_direction() const {
@@ -169,6 +187,7 @@ bool StaticSolver::assemble_system(double load_factor, Eigen::VectorXd& residual
 }
 
 bool StaticSolver::solve_pair(Eigen::VectorXd& minus_g_then_du_r, Eigen::VectorXd& q_then_du_t) {
+  tangent_kept_ = false;
   return linear_solver_.factorize(K_) && linear_solver_.solve(minus_g_then_du_r) &&
          linear_solver_.solve(q_then_du_t);
 }
@@ -287,6 +306,7 @@ int StaticSolver::arc_length_step(double arc_length, double direction_sign) {
   // increment (positive work along the path), so the path does not double back at a limit
   // point where the sign of λ̇ changes.
   if (!assemble_system(load_factor_, g, q, force_scale)) return fail();
+  tangent_kept_ = false;
   if (!linear_solver_.solve(K_, q)) return fail();
   const double t_norm = std::sqrt(position_dot(q, q));
   if (!(t_norm > 0.0)) return fail();
@@ -346,6 +366,7 @@ std::vector<LoadStep> StaticSolver::run_arc_length(int max_steps, const ArcLengt
     double force_scale = 0.0;
     if (!assemble_system(load_factor_, g, q, force_scale))
       throw SolverError("arc-length method: the start state is not admissible (det A <= 0)");
+    tangent_kept_ = false;
     if (!linear_solver_.solve(K_, q))
       throw SolverError("arc-length method: the tangent at the start state is singular");
     initial_arc_length_ = std::abs(options.initial_load_increment) * std::sqrt(position_dot(q, q));

@@ -17,12 +17,13 @@ struct NewtonOptions {
   double residual_tolerance = 1e-6;  ///< on ‖g‖ relative to the force scale
   int max_iterations = 25;
   int max_cutbacks = 5;              ///< halvings of a failed increment before giving up
-  /// Modified Newton (NewmarkSolver only): keep the factorised iteration matrix across
-  /// iterations and steps, and assemble and factorise it again only when an iteration
-  /// reduces the residual by less than `refresh_ratio`, the step size changes, or a step
-  /// fails (which is then retried once with a fresh matrix before it is halved). The
-  /// converged states meet the same tests; an iteration costs an internal-force assembly and
-  /// a solve instead of a tangent assembly and a factorisation.
+  /// Modified Newton (NewmarkSolver, and StaticSolver under load control): keep the
+  /// factorised iteration matrix across iterations and steps / load levels, and assemble
+  /// and factorise it again only when an iteration reduces the residual by less than
+  /// `refresh_ratio` (that iteration is then redone with the new matrix), the step size
+  /// changes, or a step fails (dynamics: retried once with a fresh matrix before it is
+  /// halved). The converged states meet the same tests; an iteration costs an
+  /// internal-force assembly and a solve instead of a tangent assembly and a factorisation.
   bool modified = false;
   double refresh_ratio = 0.5;
 };
@@ -137,6 +138,8 @@ class StaticSolver {
   SparseMatrix K_;
   Eigen::VectorXd f_int_;
   ShellSystemSolver linear_solver_;
+  /// Modified Newton: linear_solver_ holds a factorised tangent that solve() may reuse.
+  bool tangent_kept_ = false;
   /// Arc-length state kept between calls: last converged increment and Δl.
   Eigen::VectorXd last_increment_;
   double arc_length_ = 0.0;
