@@ -30,6 +30,15 @@ def panel_case_text():
     return re.sub(r"geo: (\w+\.geo)", lambda m: "geo: " + os.path.join(folder, m.group(1)), text)
 
 
+def run_case(test, outdir, folder, name):
+    """`shellflow run cases/FOLDER/NAME -o OUTDIR`; asserts success, returns the process and
+    the rows of probes.csv (header first)."""
+    r = shellflow("run", os.path.join(ROOT, "cases", folder, name), "-o", outdir, "--no-plot")
+    test.assertEqual(r.returncode, 0, r.stderr)
+    with open(os.path.join(outdir, "probes.csv"), newline="") as f:
+        return r, list(csv.reader(f))
+
+
 def read_vtu_point_arrays(path):
     """Point-data arrays of a .vtu written by shellflow (raw appended Float64 with a UInt64
     byte count before every array): {name: list of tuples}."""
@@ -172,11 +181,7 @@ class ShellRuns(unittest.TestCase):
 
     def test_sze31_end_shear_meets_the_elastica_at_every_level(self):
         with tempfile.TemporaryDirectory() as tmp:
-            case = os.path.join(ROOT, "cases", "shell", "sze31_end_shear.yaml")
-            r = shellflow("run", case, "-o", tmp, "--no-plot")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
-                rows = list(csv.reader(f))
+            r, rows = run_case(self, tmp, "shell", "sze31_end_shear.yaml")
             self.assertEqual(rows[0], ["time", "tip_u", "tip_w"])
             self.assertEqual(len(rows), 22)  # t = 0 and 20 load levels
             check = subprocess.run(
@@ -193,11 +198,7 @@ class ShellRuns(unittest.TestCase):
         # Supports along non-axis directions, hard simple support, surface traction and the
         # stress output: plate-strip bending on an oblique plane (the case file's header).
         with tempfile.TemporaryDirectory() as tmp:
-            case = os.path.join(ROOT, "cases", "shell", "oblique_strip_hard_support.yaml")
-            r = shellflow("run", case, "-o", tmp, "--no-plot")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
-                rows = list(csv.reader(f))
+            r, rows = run_case(self, tmp, "shell", "oblique_strip_hard_support.yaml")
             w = float(rows[-1][1])
             self.assertLess(abs(w / 1.42227e-6 - 1.0), 2e-3, w)
             fields = read_vtu_point_arrays(os.path.join(tmp, "shell_000001.vtu"))
@@ -219,11 +220,8 @@ class ShellRuns(unittest.TestCase):
 
     def test_prescribed_rotation_turns_the_cantilever_rigidly(self):
         with tempfile.TemporaryDirectory() as tmp:
-            case = os.path.join(ROOT, "cases", "shell", "cantilever_prescribed_rotation.yaml")
-            r = shellflow("run", case, "-o", tmp, "--no-plot")
-            self.assertEqual(r.returncode, 0, r.stderr)
-            with open(os.path.join(tmp, "probes.csv"), newline="") as f:
-                rows = [[float(x) for x in row] for row in list(csv.reader(f))[1:]]
+            r, rows = run_case(self, tmp, "shell", "cantilever_prescribed_rotation.yaml")
+            rows = [[float(x) for x in row] for row in rows[1:]]
             self.assertEqual(len(rows), 6)
             for lam, u, w in rows:
                 angle = 0.5 * lam
