@@ -167,5 +167,19 @@ TEST(ReferenceStripVibration, ModifiedNewtonFollowsTheFullNewtonTrajectory) {
   }
 }
 
+TEST(ReferenceStripVibration, NodalMassProductEqualsTheSparseMassProduct) {
+  // NodalMass relies on every 3x3 block of M being a multiple of the identity and on empty
+  // `a` rows: then its product equals M v for any v.
+  const ShellModel model = reference_strip();
+  SparseMatrix M = model.make_matrix();
+  model.assemble_mass(M);
+  const NodalMass nodal(M);
+  const Eigen::VectorXd v = Eigen::VectorXd::Random(model.num_dofs());
+  const Eigen::VectorXd expected = M * v;
+  const double error = (nodal * v - expected).norm() / expected.norm();
+  std::printf("nodal mass product vs sparse M v: rel. difference %.2e\n", error);
+  EXPECT_LT(error, 1e-14);
+}
+
 }  // namespace
 }  // namespace shellflow::shell

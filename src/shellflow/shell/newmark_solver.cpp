@@ -7,12 +7,56 @@
 
 namespace shellflow::shell {
 
+namespace {
+
+SparseMatrix mass_of(const ShellModel& model) {
+  SparseMatrix M = model.make_matrix();
+  model.assemble_mass(M);
+  return M;
+}
+
+}  // namespace
+
+NodalMass::NodalMass(const SparseMatrix& M) {
+  const Index n = M.rows() / dofs_per_node;
+  std::vector<Eigen::Triplet<double, int>> xx, xG, Gx, GG;
+  for (int col = 0; col < M.outerSize(); ++col) {
+    const int b = col % dofs_per_node;
+    if (b != 0 && b != 3) continue;
+    for (SparseMatrix::InnerIterator it(M, col); it; ++it) {
+      const int a = static_cast<int>(it.row() % dofs_per_node);
+      const auto j = static_cast<int>(it.row() / dofs_per_node), k = col / dofs_per_node;
+      if (a == 0 && b == 0) xx.emplace_back(j, k, it.value());
+      if (a == 0 && b == 3) xG.emplace_back(j, k, it.value());
+      if (a == 3 && b == 0) Gx.emplace_back(j, k, it.value());
+      if (a == 3 && b == 3) GG.emplace_back(j, k, it.value());
+    }
+  }
+  for (auto [matrix, entries] : {std::pair{&xx_, &xx}, std::pair{&xG_, &xG}, std::pair{&Gx_, &Gx}, std::pair{&GG_, &GG}}) {
+    matrix->resize(n, n);
+    matrix->setFromTriplets(entries->begin(), entries->end());
+  }
+}
+
+Eigen::VectorXd NodalMass::operator*(const Eigen::VectorXd& v) const {
+  using Part = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>, 0, Eigen::OuterStride<>>;
+  const Index n = xx_.rows();
+  const Part x(v.data(), n, 3, Eigen::OuterStride<>(dofs_per_node));
+  const Part G(v.data() + 3, n, 3, Eigen::OuterStride<>(dofs_per_node));
+  const Eigen::Matrix<double, Eigen::Dynamic, 3> px = xx_ * x + xG_ * G, pG = Gx_ * x + GG_ * G;
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
+  for (Index j = 0; j < n; ++j) {
+    out.segment<3>(dofs_per_node * j) = px.row(j).transpose();
+    out.segment<3>(dofs_per_node * j + 3) = pG.row(j).transpose();
+  }
+  return out;
+}
+
 NewmarkSolver::NewmarkSolver(const ShellModel& model, NewmarkOptions options,
                              std::function<double(double)> load_factor)
     : model_(model), options_(options), load_factor_(std::move(load_factor)),
-      u_(Eigen::VectorXd::Zero(model.num_dofs())), v_(u_), a_(u_), M_(model.make_matrix()),
-      K_(model.make_matrix()), linear_solver_(model) {
-  model_.assemble_mass(M_);
+      u_(Eigen::VectorXd::Zero(model.num_dofs())), v_(u_), a_(u_), M_(mass_of(model)),
+      K_(model.make_matrix()), nodal_mass_(M_), linear_solver_(model) {
   inertial_fixed_ = model_.constrained();
   for (Index n = 0; n < model_.num_nodes(); ++n) inertial_fixed_[static_cast<std::size_t>(dofs_per_node * n + 6)] = 1;
 }
@@ -29,7 +73,7 @@ void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::Vec
   Eigen::VectorXd f_ext = load_factor_at(time_) * model_.reference_load();
   model_.add_follower_loads(u_, load_factor_at(time_), f_ext, nullptr);
   model_.assemble(u_, f_int_, nullptr);
-  Eigen::VectorXd rhs = f_ext - f_int_ - options_.mass_damping * (M_ * v_);
+  Eigen::VectorXd rhs = f_ext - f_int_ - options_.mass_damping * (nodal_mass_ * v_);
   SparseMatrix M = M_;
   ShellSystemSolver mass_solver(model_, inertial_fixed_);
   if (!mass_solver.factorize(M, true) || !mass_solver.solve(rhs))
@@ -38,14 +82,14 @@ void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::Vec
 }
 
 Vec3 NewmarkSolver::linear_momentum() const {
-  const Eigen::VectorXd Mv = M_ * v_;
+  const Eigen::VectorXd Mv = nodal_mass_ * v_;
   Vec3 p = Vec3::Zero();
   for (Index n = 0; n < model_.num_nodes(); ++n) p += Mv.segment<3>(dofs_per_node * n);
   return p;
 }
 
 Vec3 NewmarkSolver::angular_momentum() const {
-  const Eigen::VectorXd Mv = M_ * v_;
+  const Eigen::VectorXd Mv = nodal_mass_ * v_;
   Vec3 l = Vec3::Zero();
   for (Index n = 0; n < model_.num_nodes(); ++n) {
     const Vec3 x = model_.mesh().nodes[static_cast<std::size_t>(n)] + node_position_increment(u_, n);
@@ -89,8 +133,9 @@ int NewmarkSolver::try_newmark_step(double dt) {
   const Eigen::VectorXd Q = u_ / (beta * dt * dt) + v_ / (beta * dt) + (0.5 / beta - 1.0) * a_;
   const Eigen::VectorXd R = v_ + (1.0 - gamma) * dt * a_;
   const double mass_coefficient = 1.0 / (beta * dt * dt) + cm * gamma / (beta * dt);
-  const Eigen::VectorXd MQ = M_ * Q;
-  const Eigen::VectorXd inertia_history = -MQ + cm * (M_ * R) - cm * gamma * dt * MQ;
+  const Eigen::VectorXd MQ = nodal_mass_ * Q;
+  Eigen::VectorXd inertia_history = -MQ;
+  if (cm != 0.0) inertia_history += cm * (nodal_mass_ * R) - cm * gamma * dt * MQ;
   const double lf = load_factor_at(t_next);
 
   Eigen::VectorXd u = u_;  // predictor y_{s+1}^(0) = y_s (papers' practice)
@@ -100,7 +145,7 @@ int NewmarkSolver::try_newmark_step(double dt) {
     if (!model_.assemble(u, f_int_, new_matrix ? &K_ : nullptr)) return -1;
     Eigen::VectorXd f_ext = lf * model_.reference_load();
     model_.add_follower_loads(u, lf, f_ext, new_matrix ? &K_ : nullptr);
-    const Eigen::VectorXd Mu = M_ * u;
+    const Eigen::VectorXd Mu = nodal_mass_ * u;
     const Eigen::VectorXd g = f_int_ - f_ext + mass_coefficient * Mu + inertia_history;
     // H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M.
     if (new_matrix && !factorize_iteration_matrix(1.0, mass_coefficient)) return -1;
@@ -136,7 +181,7 @@ int NewmarkSolver::try_midpoint_step(double dt) {
   const double cm = options_.mass_damping;
   const double t_mid = time_ + 0.5 * dt;
   const double mass_coefficient = 2.0 / (dt * dt) + cm / dt;
-  const Eigen::VectorXd Mv = M_ * v_;
+  const Eigen::VectorXd Mv = nodal_mass_ * v_;
   const double lf = load_factor_at(t_mid);
 
   Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a`)
@@ -147,7 +192,7 @@ int NewmarkSolver::try_midpoint_step(double dt) {
     if (!model_.assemble(u_mid, f_int_, new_matrix ? &K_ : nullptr)) return -1;
     Eigen::VectorXd f_ext = lf * model_.reference_load();
     model_.add_follower_loads(u_mid, lf, f_ext, new_matrix ? &K_ : nullptr);
-    const Eigen::VectorXd M_du = M_ * (u - u_);
+    const Eigen::VectorXd M_du = nodal_mass_ * (u - u_);
     const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
     const Eigen::VectorXd g = f_int_ - f_ext + M_acceleration + (cm / dt) * M_du;
     // H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M.

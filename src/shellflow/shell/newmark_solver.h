@@ -21,6 +21,20 @@ enum class TimeScheme {
   midpoint,
 };
 
+/// The consistent mass in node-pair form. Every 3x3 block of M is a multiple of the
+/// identity (shell.md §6: M_jk = ∫ρ φ_j φ_k (1, ξ3 h/2, (ξ3 h/2)²) I) and the `a` rows are
+/// empty, so M v needs 4 scalars per node pair (x–x, x–G, G–x, G–G) instead of 49 entries:
+/// the product reads about 10× less memory than the sparse one (it runs in every iteration).
+class NodalMass {
+ public:
+  /// M as made by ShellModel::assemble_mass.
+  explicit NodalMass(const SparseMatrix& M);
+  Eigen::VectorXd operator*(const Eigen::VectorXd& v) const;
+
+ private:
+  SparseMatrix xx_, xG_, Gx_, GG_;  ///< num_nodes x num_nodes
+};
+
 struct NewmarkOptions {
   TimeScheme scheme = TimeScheme::newmark;
   double beta = 0.25;
@@ -53,7 +67,7 @@ class NewmarkSolver {
   /// Newmark: the acceleration at time(); midpoint: the mean acceleration (v1 - v0)/dt of
   /// the last step (the value at its midpoint; second-order accurate there).
   const Eigen::VectorXd& acceleration() const { return a_; }
-  double kinetic_energy() const { return 0.5 * v_.dot(M_ * v_); }
+  double kinetic_energy() const { return 0.5 * v_.dot(nodal_mass_ * v_); }
   double strain_energy() const { return model_.strain_energy(u_); }
   /// Linear momentum ∫ρ0 v dV0 (shell.md §6 kinematics): with Σφ_k = 1 it is the sum of
   /// M v over the x rows of every node.
@@ -89,6 +103,7 @@ class NewmarkSolver {
   double time_ = 0.0;
   Eigen::VectorXd u_, v_, a_;
   SparseMatrix M_, K_;
+  NodalMass nodal_mass_;  ///< M_ for products
   Eigen::VectorXd f_int_;
   ShellSystemSolver linear_solver_;
   // Modified Newton state: the factorised H and the mass coefficient it was made with.
