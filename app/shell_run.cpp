@@ -110,15 +110,14 @@ std::vector<double> nodal_part(const Eigen::VectorXd& u, Index nodes, int offset
   return out;
 }
 
+/// One nodal field for the VTU: name, components, values (owned).
+using OwnedField = std::tuple<std::string, int, std::vector<double>>;
+
 /// Nodal stress tensors (9 components, row-major) and their von Mises values on the bottom,
 /// middle and top surfaces, for the VTU.
-struct StressFields {
-  std::vector<std::tuple<std::string, int, std::vector<double>>> fields;
-};
-
-StressFields stress_fields(const shell::ShellModel& model, const Eigen::VectorXd& u,
-                           io::OutputSection::ShellStress kind) {
-  StressFields out;
+std::vector<OwnedField> stress_fields(const shell::ShellModel& model, const Eigen::VectorXd& u,
+                                      io::OutputSection::ShellStress kind) {
+  std::vector<OwnedField> out;
   if (kind == io::OutputSection::ShellStress::none) return out;
   const bool cauchy = kind == io::OutputSection::ShellStress::cauchy;
   const auto measure =
@@ -133,8 +132,8 @@ StressFields stress_fields(const shell::ShellModel& model, const Eigen::VectorXd
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           tensor[9 * k + static_cast<std::size_t>(3 * i + j)] = nodal.tensor[k](i, j);
-    out.fields.emplace_back(fmt::format("{}_{}", prefix, side_name), 9, std::move(tensor));
-    out.fields.emplace_back(fmt::format("von_mises_{}", side_name), 1, nodal.von_mises);
+    out.emplace_back(fmt::format("{}_{}", prefix, side_name), 9, std::move(tensor));
+    out.emplace_back(fmt::format("von_mises_{}", side_name), 1, nodal.von_mises);
   }
   return out;
 }
@@ -188,8 +187,8 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
                                             {"velocity", 3, velocity},
                                             {"director", 3, director},
                                             {"thickness_parameter", 1, thickness}};
-    const StressFields stress = stress_fields(model, u, c.output.shell_stress);
-    for (const auto& [field_name, components, values] : stress.fields)
+    const std::vector<OwnedField> stress = stress_fields(model, u, c.output.shell_stress);
+    for (const auto& [field_name, components, values] : stress)
       vtu_fields.push_back({field_name, components, values});
     io::write_mesh_vtu(outdir / name, mesh, std::move(vtu_fields), t, x);
     pvd.add(t, name);

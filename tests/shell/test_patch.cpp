@@ -16,15 +16,10 @@
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/linear_solver.h"
 #include "shellflow/shell/static_solver.h"
+#include "reference_strip.h"
 
 namespace shellflow::shell {
 namespace {
-
-mesh::Mesh cubic_mesh(const std::string& file) {
-  mesh::MeshingOptions meshing;
-  meshing.order = 3;
-  return mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "cases/shell" / file, meshing, "shell");
-}
 
 /// Distorts a flat cubic mesh: moves every element vertex that is not on one of
 /// `fixed_groups` by a random offset of up to `amplitude` per component (x, and y when

@@ -13,15 +13,10 @@
 #include "shellflow/core/error.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/static_solver.h"
+#include "reference_strip.h"
 
 namespace shellflow::shell {
 namespace {
-
-mesh::Mesh cubic_mesh(const std::string& file) {
-  mesh::MeshingOptions meshing;
-  meshing.order = 3;
-  return mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "cases/shell" / file, meshing, "shell");
-}
 
 ShellModel sze31_model() {
   ShellSection section;

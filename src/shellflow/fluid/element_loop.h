@@ -37,17 +37,9 @@ void for_each_block(const ElementLoop& loop, Body&& body) {
 /// scatter to the element's nodes without atomics.
 template <class Body>
 void for_each_element(const ElementLoop& loop, Body&& body) {
-  const int num_colours = static_cast<int>(loop.colour_offsets.size()) - 1;
-  const auto num_elements = static_cast<Index>(loop.tets.size() / 4);
-#pragma omp parallel if (num_elements > parallel_threshold)
-  for (int c = 0; c < num_colours; ++c) {
-    const Index first = loop.colour_offsets[std::size_t(c)];
-    const Index last = loop.colour_offsets[std::size_t(c) + 1];
-#pragma omp for schedule(dynamic, 1)
-    for (Index b = first; b < last; ++b)
-      for (Index e = loop.block_offsets[std::size_t(b)]; e < loop.block_offsets[std::size_t(b) + 1]; ++e)
-        body(e);
-  }
+  for_each_block(loop, [&](Index first, Index last) {
+    for (Index e = first; e < last; ++e) body(e);
+  });
 }
 
 }  // namespace shellflow::fluid

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "shellflow/core/error.h"
 
@@ -99,6 +100,34 @@ Vec3 NewmarkSolver::angular_momentum() const {
   return l;
 }
 
+// The Newton iterations both schemes share. g(u) = F_int(y) - F_ext(t, y) + inertia(u) with
+// y = evaluation_state(u); inertia_forces(u) returns {the inertia and damping terms of g,
+// the inertia force M ü for the force scale}; the iteration matrix is
+// tangent_weight K(y) + mass_coefficient M.
+template <class EvaluationState, class InertiaForces>
+int NewmarkSolver::iterate(Eigen::VectorXd& u, double load_factor, double tangent_weight, double mass_coefficient,
+                           EvaluationState&& evaluation_state, InertiaForces&& inertia_forces) {
+  for (int it = 1; it <= options_.newton.max_iterations; ++it) {
+    const bool new_matrix = needs_new_matrix(mass_coefficient);
+    const Eigen::VectorXd y = evaluation_state(u);
+    if (!model_.assemble(y, f_int_, new_matrix ? &K_ : nullptr)) return -1;
+    Eigen::VectorXd f_ext = load_factor * model_.reference_load();
+    model_.add_follower_loads(y, load_factor, f_ext, new_matrix ? &K_ : nullptr);
+    const auto [inertia, inertia_force] = inertia_forces(u);
+    const Eigen::VectorXd g = f_int_ - f_ext + inertia;
+    if (new_matrix && !factorize_iteration_matrix(tangent_weight, mass_coefficient)) return -1;
+    const double force_scale =
+        std::max({model_.free_norm(f_ext), model_.free_norm(f_int_), model_.free_norm(inertia_force)});
+    record_residual(it, model_.free_norm(g));
+    Eigen::VectorXd du = -g;
+    if (!linear_solver_.solve(du)) return -1;
+    u += du;
+    if (!u.allFinite()) return -1;
+    if (newton_converged(model_, options_.newton, du, g, force_scale)) return it;
+  }
+  return -1;
+}
+
 bool NewmarkSolver::needs_new_matrix(double mass_coefficient) const {
   return !options_.newton.modified || !matrix_factorized_ || refresh_matrix_ ||
          factorized_mass_coefficient_ != mass_coefficient;
@@ -140,33 +169,21 @@ int NewmarkSolver::try_newmark_step(double dt) {
 
   Eigen::VectorXd u = u_;  // predictor y_{s+1}^(0) = y_s (papers' practice)
   model_.apply_prescribed(t_next, u);
-  for (int it = 1; it <= options_.newton.max_iterations; ++it) {
-    const bool new_matrix = needs_new_matrix(mass_coefficient);
-    if (!model_.assemble(u, f_int_, new_matrix ? &K_ : nullptr)) return -1;
-    Eigen::VectorXd f_ext = lf * model_.reference_load();
-    model_.add_follower_loads(u, lf, f_ext, new_matrix ? &K_ : nullptr);
-    const Eigen::VectorXd Mu = nodal_mass_ * u;
-    const Eigen::VectorXd g = f_int_ - f_ext + mass_coefficient * Mu + inertia_history;
-    // H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M.
-    if (new_matrix && !factorize_iteration_matrix(1.0, mass_coefficient)) return -1;
-    const double force_scale = std::max({model_.free_norm(f_ext), model_.free_norm(f_int_),
-                                         model_.free_norm(Mu / (beta * dt * dt) - MQ)});
-    record_residual(it, model_.free_norm(g));
-    Eigen::VectorXd du = -g;
-    if (!linear_solver_.solve(du)) return -1;
-    u += du;
-    if (!u.allFinite()) return -1;
-    if (newton_converged(model_, options_.newton, du, g, force_scale)) {
-      const Eigen::VectorXd a_next = u / (beta * dt * dt) - Q;
-      v_ = R + gamma * dt * a_next;
-      a_ = a_next;
-      for (Index n = 0; n < model_.num_nodes(); ++n) v_(dofs_per_node * n + 6) = a_(dofs_per_node * n + 6) = 0.0;
-      u_ = u;
-      time_ = t_next;
-      return it;
-    }
-  }
-  return -1;
+  // Forces at u itself; H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M.
+  const int iterations = iterate(u, lf, 1.0, mass_coefficient, [](const Eigen::VectorXd& y) { return y; },
+                                 [&](const Eigen::VectorXd& y) {
+                                   const Eigen::VectorXd My = nodal_mass_ * y;
+                                   return std::pair{Eigen::VectorXd(mass_coefficient * My + inertia_history),
+                                                    Eigen::VectorXd(My / (beta * dt * dt) - MQ)};
+                                 });
+  if (iterations < 0) return -1;
+  const Eigen::VectorXd a_next = u / (beta * dt * dt) - Q;
+  v_ = R + gamma * dt * a_next;
+  a_ = a_next;
+  for (Index n = 0; n < model_.num_nodes(); ++n) v_(dofs_per_node * n + 6) = a_(dofs_per_node * n + 6) = 0.0;
+  u_ = u;
+  time_ = t_next;
+  return iterations;
 }
 
 int NewmarkSolver::try_midpoint_step(double dt) {
@@ -186,35 +203,22 @@ int NewmarkSolver::try_midpoint_step(double dt) {
 
   Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a`)
   model_.apply_prescribed(time_ + dt, u);
-  for (int it = 1; it <= options_.newton.max_iterations; ++it) {
-    const bool new_matrix = needs_new_matrix(mass_coefficient);
-    const Eigen::VectorXd u_mid = 0.5 * (u_ + u);
-    if (!model_.assemble(u_mid, f_int_, new_matrix ? &K_ : nullptr)) return -1;
-    Eigen::VectorXd f_ext = lf * model_.reference_load();
-    model_.add_follower_loads(u_mid, lf, f_ext, new_matrix ? &K_ : nullptr);
-    const Eigen::VectorXd M_du = nodal_mass_ * (u - u_);
-    const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
-    const Eigen::VectorXd g = f_int_ - f_ext + M_acceleration + (cm / dt) * M_du;
-    // H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M.
-    if (new_matrix && !factorize_iteration_matrix(0.5, mass_coefficient)) return -1;
-    const double force_scale =
-        std::max({model_.free_norm(f_ext), model_.free_norm(f_int_), model_.free_norm(M_acceleration)});
-    record_residual(it, model_.free_norm(g));
-    Eigen::VectorXd du = -g;
-    if (!linear_solver_.solve(du)) return -1;
-    u += du;
-    if (!u.allFinite()) return -1;
-    if (newton_converged(model_, options_.newton, du, g, force_scale)) {
-      Eigen::VectorXd v_next = (2.0 / dt) * (u - u_) - v_;
-      for (Index n = 0; n < model_.num_nodes(); ++n) v_next(dofs_per_node * n + 6) = 0.0;
-      a_ = (v_next - v_) / dt;
-      v_ = std::move(v_next);
-      u_ = u;
-      time_ += dt;
-      return it;
-    }
-  }
-  return -1;
+  // Forces at u_mid = (u_n + u)/2; H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M.
+  const int iterations = iterate(u, lf, 0.5, mass_coefficient,
+                                 [&](const Eigen::VectorXd& y) { return Eigen::VectorXd(0.5 * (u_ + y)); },
+                                 [&](const Eigen::VectorXd& y) {
+                                   const Eigen::VectorXd M_du = nodal_mass_ * (y - u_);
+                                   const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
+                                   return std::pair{Eigen::VectorXd(M_acceleration + (cm / dt) * M_du), M_acceleration};
+                                 });
+  if (iterations < 0) return -1;
+  Eigen::VectorXd v_next = (2.0 / dt) * (u - u_) - v_;
+  for (Index n = 0; n < model_.num_nodes(); ++n) v_next(dofs_per_node * n + 6) = 0.0;
+  a_ = (v_next - v_) / dt;
+  v_ = std::move(v_next);
+  u_ = u;
+  time_ += dt;
+  return iterations;
 }
 
 int NewmarkSolver::advance(double dt) {

@@ -88,6 +88,10 @@ class NewmarkSolver {
   int try_newmark_step(double dt);
   int try_midpoint_step(double dt);
   double load_factor_at(double t) const { return load_factor_ ? load_factor_(t) : 0.0; }
+  /// Newton on the end state u of a step (the loop both schemes share); the iterations or -1.
+  template <class EvaluationState, class InertiaForces>
+  int iterate(Eigen::VectorXd& u, double load_factor, double tangent_weight, double mass_coefficient,
+              EvaluationState&& evaluation_state, InertiaForces&& inertia_forces);
   /// Whether this iteration assembles and factorises the iteration matrix
   /// H = tangent_weight K + mass_coefficient M (always, unless NewtonOptions::modified).
   bool needs_new_matrix(double mass_coefficient) const;

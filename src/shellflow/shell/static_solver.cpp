@@ -19,6 +19,33 @@ double force_scale_of(const ShellModel& model, const Eigen::VectorXd& f_ext, con
   return std::max({model.free_norm(f_ext), model.free_norm(f_int), model.fixed_norm(f_int)});
 }
 
+/// Moves a path parameter (load factor or controlled displacement) from `current` to
+/// `target`: the whole remainder first, an increment halved after each failure and kept
+/// after a success. `solve_at(value)` returns its Newton iterations, or -1 (state restored).
+/// Returns the iterations used, or -1 after `max_cutbacks` failures in a row, with the value
+/// that failed last in `failed_at`.
+template <class SolveAt>
+int step_with_cutbacks(double current, double target, int max_cutbacks, SolveAt&& solve_at, double& failed_at) {
+  double increment = target - current;
+  int cutbacks = 0, iterations = 0;
+  while (current != target) {
+    const double next = std::abs(target - current) <= std::abs(increment) ? target : current + increment;
+    const int its = solve_at(next);
+    if (its < 0) {
+      if (++cutbacks > max_cutbacks) {
+        failed_at = next;
+        return -1;
+      }
+      increment *= 0.5;
+      continue;
+    }
+    iterations += its;
+    cutbacks = 0;
+    current = next;
+  }
+  return iterations;
+}
+
 /// Prescribed support motions follow the load factor, so they only go with load control.
 void require_no_prescribed_motion(const ShellModel& model, std::string_view method) {
   if (model.has_prescribed_motion())
@@ -125,25 +152,14 @@ std::vector<LoadStep> StaticSolver::run(int num_steps, double final_load_factor,
   const double start = load_factor_;
   for (int s = 1; s <= num_steps; ++s) {
     const double target = start + (final_load_factor - start) * s / num_steps;
-    // Sub-increments towards `target`, halved on failure.
-    double increment = target - load_factor_;
-    int cutbacks = 0;
-    int iterations = 0;
-    while (load_factor_ != target) {
-      const double next = std::abs(target - load_factor_) <= std::abs(increment) ? target : load_factor_ + increment;
-      const int its = solve(next);
-      if (its < 0) {
-        if (++cutbacks > options_.max_cutbacks)
-          throw SolverError(fmt::format(
-              "shell statics: Newton did not converge at load factor {:.6g} (step {} of {}) after {} cut-backs; "
-              "use more load steps or check supports and loads",
-              next, s, num_steps, options_.max_cutbacks));
-        increment *= 0.5;
-        continue;
-      }
-      iterations += its;
-      cutbacks = 0;
-    }
+    double failed_at = 0.0;
+    const int iterations = step_with_cutbacks(
+        load_factor_, target, options_.max_cutbacks, [&](double next) { return solve(next); }, failed_at);
+    if (iterations < 0)
+      throw SolverError(fmt::format(
+          "shell statics: Newton did not converge at load factor {:.6g} (step {} of {}) after {} cut-backs; "
+          "use more load steps or check supports and loads",
+          failed_at, s, num_steps, options_.max_cutbacks));
     steps.push_back({load_factor_, iterations, 0.0});
     if (on_step) on_step(steps.back());
   }
@@ -266,26 +282,17 @@ std::vector<LoadStep> StaticSolver::run_displacement_control(const ControlledDis
   const double start = current;
   for (int s = 1; s <= num_steps; ++s) {
     const double target = start + (final_value - start) * s / num_steps;
-    double increment = target - current;
-    int cutbacks = 0;
-    int iterations = 0;
-    while (current != target) {
-      const double next = std::abs(target - current) <= std::abs(increment) ? target : current + increment;
-      const int its = solve_displacement(control, next);
-      if (its < 0) {
-        if (++cutbacks > options_.max_cutbacks)
-          throw SolverError(fmt::format(
-              "shell statics: displacement control did not converge at controlled displacement {:.6g} (step {} of "
-              "{}, load factor {:.6g}) after {} cut-backs; use more steps, or the arc-length method past a "
-              "displacement limit point",
-              next, s, num_steps, load_factor_, options_.max_cutbacks));
-        increment *= 0.5;
-        continue;
-      }
-      iterations += its;
-      cutbacks = 0;
-      current = next;
-    }
+    double failed_at = 0.0;
+    const int iterations = step_with_cutbacks(
+        current, target, options_.max_cutbacks, [&](double next) { return solve_displacement(control, next); },
+        failed_at);
+    if (iterations < 0)
+      throw SolverError(fmt::format(
+          "shell statics: displacement control did not converge at controlled displacement {:.6g} (step {} of "
+          "{}, load factor {:.6g}) after {} cut-backs; use more steps, or the arc-length method past a "
+          "displacement limit point",
+          failed_at, s, num_steps, load_factor_, options_.max_cutbacks));
+    current = target;
     steps.push_back({load_factor_, iterations, 0.0});
     if (on_step) on_step(steps.back());
   }
