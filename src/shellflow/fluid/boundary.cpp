@@ -33,6 +33,9 @@ int rank(BoundaryKind k) {
 
 bool is_wall(BoundaryKind k) { return k == BoundaryKind::slip_wall || k == BoundaryKind::symmetry; }
 
+/// Boundary passes are cheap per node: worth two threads from a few thousand nodes.
+constexpr std::size_t boundary_parallel_threshold = 2048;
+
 /// CSR of faces per node for the nodes in `nodes` (sorted), faces selected by `take`.
 template <class Take>
 void faces_per_node(const std::vector<Index>& nodes, std::span<const Index> slot_of_node,
@@ -170,8 +173,16 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
         node_condition[std::size_t(a)] = f.condition;
       }
   }
+  // Far-field condition of each node (the first far-field group touching it), for the
+  // slab rule: a wall/symmetry node on a far-field face gets the far-field state first.
+  std::vector<int> far_of_node(static_cast<std::size_t>(nn), -1);
+  for (const auto& f : faces_)
+    if (conditions_[std::size_t(f.condition)].kind == BoundaryKind::far_field)
+      for (const Index a : f.face.nodes)
+        if (far_of_node[std::size_t(a)] < 0) far_of_node[std::size_t(a)] = f.condition;
   wall_slot_.assign(std::size_t(nn), -1);
   std::vector<Index> far_slot(static_cast<std::size_t>(nn), -1);
+  std::vector<Index> no_slip_slot(static_cast<std::size_t>(nn), -1);
   for (Index a = 0; a < nn; ++a) {
     const int c = node_condition[std::size_t(a)];
     if (c < 0) continue;
@@ -179,16 +190,42 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
     if (kind == BoundaryKind::supersonic_inflow) {
       inflow_nodes_.emplace_back(a, c);
     } else if (kind == BoundaryKind::no_slip_wall) {
+      no_slip_slot[std::size_t(a)] = Index(no_slip_nodes_.size());
       no_slip_nodes_.push_back(a);
       no_slip_condition_.push_back(c);
     } else if (is_wall(kind)) {
       wall_slot_[std::size_t(a)] = Index(wall_nodes_.size());
       wall_nodes_.push_back(a);
-    } else if (kind == BoundaryKind::far_field) {
+    }
+    const int far = kind == BoundaryKind::far_field ? c : is_wall(kind) ? far_of_node[std::size_t(a)] : -1;
+    if (far >= 0) {
       far_slot[std::size_t(a)] = Index(far_nodes_.size());
       far_nodes_.push_back(a);
-      far_condition_.push_back(c);
+      far_condition_.push_back(far);
     }
+  }
+  // Positions of the nodes in their groups' node lists (per-node wall velocities).
+  set_velocity_.assign(conditions_.size(), {});
+  group_size_.assign(conditions_.size(), 0);
+  no_slip_index_.assign(no_slip_nodes_.size(), -1);
+  std::vector<std::vector<GroupSlot>> slip_groups(wall_nodes_.size());
+  for (std::size_t c = 0; c < conditions_.size(); ++c) {
+    const auto& nodes = mesh.group(conditions_[c].group).nodes;
+    group_size_[c] = Index(nodes.size());
+    const auto kind = conditions_[c].kind;
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+      const auto a = std::size_t(nodes[i]);
+      if (kind == BoundaryKind::slip_wall && wall_slot_[a] >= 0)
+        slip_groups[std::size_t(wall_slot_[a])].push_back({int(c), Index(i)});
+      if (kind == BoundaryKind::no_slip_wall && no_slip_slot[a] >= 0 &&
+          no_slip_condition_[std::size_t(no_slip_slot[a])] == int(c))
+        no_slip_index_[std::size_t(no_slip_slot[a])] = Index(i);
+    }
+  }
+  wall_slip_offsets_.assign(1, 0);
+  for (const auto& l : slip_groups) {
+    wall_slip_groups_.insert(wall_slip_groups_.end(), l.begin(), l.end());
+    wall_slip_offsets_.push_back(Index(wall_slip_groups_.size()));
   }
   const std::function<FaceKey(std::size_t)> nodes_of = [&](std::size_t f) {
     return FaceKey{faces_[f].face.nodes};
@@ -206,15 +243,12 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
                  },
                  slip_offsets, slip_faces);
   wall_face_offsets_.assign(1, 0);
-  wall_moving_condition_.assign(wall_nodes_.size(), -1);
+  wall_sym_faces_.assign(wall_nodes_.size(), 0);
   for (std::size_t s = 0; s < wall_nodes_.size(); ++s) {
     for (Index k = sym_offsets[s]; k < sym_offsets[s + 1]; ++k) wall_faces_.push_back(sym_faces[std::size_t(k)]);
-    for (Index k = slip_offsets[s]; k < slip_offsets[s + 1]; ++k) {
-      const Index f = slip_faces[std::size_t(k)];
-      wall_faces_.push_back(f);
-      if (conditions_[std::size_t(faces_[std::size_t(f)].condition)].wall_velocity)
-        wall_moving_condition_[s] = faces_[std::size_t(f)].condition;
-    }
+    wall_sym_faces_[s] = sym_offsets[s + 1] - sym_offsets[s];
+    for (Index k = slip_offsets[s]; k < slip_offsets[s + 1]; ++k)
+      wall_faces_.push_back(slip_faces[std::size_t(k)]);
     wall_face_offsets_.push_back(Index(wall_faces_.size()));
   }
   faces_per_node(far_nodes_, far_slot, faces_.size(), nodes_of,
@@ -224,17 +258,26 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
                  far_face_offsets_, far_faces_);
   wall_normals_.resize(wall_nodes_.size());
   wall_num_normals_.assign(wall_nodes_.size(), 0);
+  wall_num_sym_normals_.assign(wall_nodes_.size(), 0);
   far_normals_.assign(far_nodes_.size(), Vec3::Zero());
 }
 
 void BoundarySet::update_normals(std::span<const Vec3> x) {
-  std::vector<Vec3> area(faces_.size());
-  for (std::size_t f = 0; f < faces_.size(); ++f) area[f] = face_area_vector(x, faces_[f].face);
+  auto& area = face_area_;
+  area.resize(faces_.size());
+  const auto nf = std::ptrdiff_t(faces_.size());
+#pragma omp parallel for schedule(static) if (std::size_t(nf) > boundary_parallel_threshold)
+  for (std::ptrdiff_t f = 0; f < nf; ++f)
+    area[std::size_t(f)] = face_area_vector(x, faces_[std::size_t(f)].face);
   const double cos30 = std::sqrt(3.0) / 2.0;
-  for (std::size_t s = 0; s < wall_nodes_.size(); ++s) {
-    // Cluster the adjacent face normals; each cluster is one wall direction.
+  const auto nw = std::ptrdiff_t(wall_nodes_.size());
+#pragma omp parallel for schedule(static) if (std::size_t(nw) > boundary_parallel_threshold)
+  for (std::ptrdiff_t si = 0; si < nw; ++si) {
+    const auto s = std::size_t(si);
+    // Cluster the adjacent face normals; each cluster is one wall direction. Symmetry
+    // faces come first, so the clusters they open come first.
     std::array<Vec3, 8> clusters;
-    int nc = 0;
+    int nc = 0, nc_sym = 0;
     for (Index k = wall_face_offsets_[s]; k < wall_face_offsets_[s + 1]; ++k) {
       const Vec3& a = area[std::size_t(wall_faces_[std::size_t(k)])];
       const Vec3 n = a.normalized();
@@ -245,49 +288,29 @@ void BoundarySet::update_normals(std::span<const Vec3> x) {
         clusters[std::size_t(found)] += a;
       } else if (nc < int(clusters.size())) {
         clusters[std::size_t(nc++)] = a;
+        if (k - wall_face_offsets_[s] < wall_sym_faces_[s]) nc_sym = nc;
       }
     }
     // Gram–Schmidt: the constrained subspace spanned by the distinct normals.
-    int m = 0;
+    int m = 0, m_sym = 0;
     auto& basis = wall_normals_[s];
     for (int c = 0; c < nc && m < 3; ++c) {
       Vec3 v = clusters[std::size_t(c)].normalized();
       for (int i = 0; i < m; ++i) v -= v.dot(basis[std::size_t(i)]) * basis[std::size_t(i)];
       const double len = v.norm();
-      if (len > 1e-6) basis[std::size_t(m++)] = v / len;
+      if (len > 1e-6) {
+        basis[std::size_t(m++)] = v / len;
+        if (c < nc_sym) m_sym = m;
+      }
     }
     wall_num_normals_[s] = m;
+    wall_num_sym_normals_[s] = m_sym;
   }
   for (std::size_t s = 0; s < far_nodes_.size(); ++s) {
     Vec3 n = Vec3::Zero();
     for (Index k = far_face_offsets_[s]; k < far_face_offsets_[s + 1]; ++k)
       n += area[std::size_t(far_faces_[std::size_t(k)])];
     far_normals_[s] = n.normalized();
-  }
-}
-
-void BoundarySet::impose_dirichlet_increments(const IdealGas& gas, double t,
-                                              std::span<const Vec3> x, const FluidState& u_old,
-                                              FluidState& increment) const {
-  for (const auto& [a, c] : inflow_nodes_) {
-    const auto& bc = conditions_[std::size_t(c)];
-    const Conservative q = to_conservative(gas, bc.state_at ? bc.state_at(x[std::size_t(a)], t) : bc.state);
-    const Conservative old = u_old.get(a);
-    increment.set(a, {q.rho - old.rho, q.momentum - old.momentum, q.energy - old.energy});
-  }
-  // No-slip walls: the wall reaction must not spread through the consistent mass.
-  for (std::size_t s = 0; s < no_slip_nodes_.size(); ++s) {
-    const Index a = no_slip_nodes_[s];
-    const auto& bc = conditions_[std::size_t(no_slip_condition_[s])];
-    const Vec3 wall_velocity =
-        bc.wall_velocity ? bc.wall_velocity(a, x[std::size_t(a)], t) : Vec3(Vec3::Zero());
-    const Conservative old = u_old.get(a);
-    Conservative d = increment.get(a);
-    const double rho = old.rho + d.rho;
-    d.momentum = rho * wall_velocity - old.momentum;
-    if (bc.wall_temperature)
-      d.energy = rho * (gas.cv() * *bc.wall_temperature + 0.5 * wall_velocity.squaredNorm()) - old.energy;
-    increment.set(a, d);
   }
 }
 
@@ -305,81 +328,9 @@ std::span<const Vec3> BoundarySet::wall_constraints(Index node) const {
   return {wall_normals_[std::size_t(s)].data(), std::size_t(wall_num_normals_[std::size_t(s)])};
 }
 
-void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x,
-                        std::span<const Vec3> w, FluidState& u, bool initial_state) const {
-  const double gm1 = gas.gamma - 1.0;
-  auto state_of = [&](const BoundaryCondition& bc, Index a) {
-    return bc.state_at ? bc.state_at(x[std::size_t(a)], t) : bc.state;
-  };
-  for (const auto& [a, c] : inflow_nodes_)
-    u.set(a, to_conservative(gas, state_of(conditions_[std::size_t(c)], a)));
-
-  for (std::size_t s = 0; s < far_nodes_.size(); ++s) {
-    const Index a = far_nodes_[s];
-    const Vec3& n = far_normals_[s];
-    const Primitive inf = state_of(conditions_[std::size_t(far_condition_[s])], a);
-    const Primitive in = to_primitive(gas, u.get(a));
-    const Vec3& wa = w[std::size_t(a)];
-    const double c_in = gas.sound_speed(in.rho, in.pressure);
-    const double vn = (in.velocity - wa).dot(n);
-    if (vn >= c_in) continue;  // supersonic outflow: nothing imposed
-    if (vn <= -c_in) {
-      u.set(a, to_conservative(gas, inf));
-      continue;
-    }
-    const double c_inf = gas.sound_speed(inf.rho, inf.pressure);
-    const double r_plus = vn + 2.0 * c_in / gm1;
-    const double r_minus = (inf.velocity - wa).dot(n) - 2.0 * c_inf / gm1;
-    const double vn_b = 0.5 * (r_plus + r_minus);
-    const double c_b = 0.25 * gm1 * (r_plus - r_minus);
-    const Primitive& source = vn_b < 0.0 ? inf : in;
-    const double entropy = source.pressure / std::pow(source.rho, gas.gamma);
-    const Vec3 tangential = source.velocity - source.velocity.dot(n) * n;
-    Primitive b;
-    b.rho = std::pow(c_b * c_b / (gas.gamma * entropy), 1.0 / gm1);
-    b.pressure = b.rho * c_b * c_b / gas.gamma;
-    b.velocity = tangential + (vn_b + wa.dot(n)) * n;
-    u.set(a, to_conservative(gas, b));
-  }
-
-  // No-slip: u = u_wall. Isothermal walls reset rho E with the wall temperature and the
-  // current rho. Adiabatic walls keep the updated total energy: that is the explicit step of
-  // the semi-discrete system in which the wall momentum is constrained and the energy row
-  // (with the wall's shear work) evolves freely. Keeping the pressure instead would subtract
-  // the kinetic energy of the wall reaction m* - rho u_wall every step: the shear work at a
-  // moving wall, and an O(dt / h^2) sink at a fixed one (first-order error in T, measured).
-  // The initial state keeps its pressure (its velocity need not match the wall's).
-  for (std::size_t s = 0; s < no_slip_nodes_.size(); ++s) {
-    const Index a = no_slip_nodes_[s];
-    const auto& bc = conditions_[std::size_t(no_slip_condition_[s])];
-    Conservative q = u.get(a);
-    const Vec3 wall_velocity =
-        bc.wall_velocity ? bc.wall_velocity(a, x[std::size_t(a)], t) : Vec3(Vec3::Zero());
-    const double kinetic = 0.5 * q.rho * wall_velocity.squaredNorm();
-    if (bc.wall_temperature)
-      q.energy = q.rho * gas.cv() * *bc.wall_temperature + kinetic;
-    else if (initial_state)
-      q.energy = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy) / gm1 +
-                 kinetic;
-    q.momentum = q.rho * wall_velocity;
-    u.set(a, q);
-  }
-
-  for (std::size_t s = 0; s < wall_nodes_.size(); ++s) {
-    const Index a = wall_nodes_[s];
-    Conservative q = u.get(a);
-    const double p = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy);
-    Vec3 wall_velocity = Vec3::Zero();
-    if (const int c = wall_moving_condition_[s]; c >= 0)
-      wall_velocity = conditions_[std::size_t(c)].wall_velocity(a, x[std::size_t(a)], t);
-    const Vec3 relative = q.momentum / q.rho - wall_velocity;
-    for (int i = 0; i < wall_num_normals_[s]; ++i) {
-      const Vec3& n = wall_normals_[s][std::size_t(i)];
-      q.momentum -= q.rho * relative.dot(n) * n;
-    }
-    q.energy = p / gm1 + 0.5 * q.momentum.squaredNorm() / q.rho;
-    u.set(a, q);
-  }
+int BoundarySet::symmetry_constraints(Index node) const {
+  const Index s = wall_slot_.empty() ? -1 : wall_slot_[std::size_t(node)];
+  return s < 0 ? 0 : wall_num_sym_normals_[std::size_t(s)];
 }
 
 }  // namespace shellflow::fluid

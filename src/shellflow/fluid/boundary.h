@@ -4,11 +4,20 @@
 // slip wall / symmetry > far field > supersonic outflow. Slip-wall and symmetry nodes are constrained
 // along every distinct normal of their adjacent faces (clusters more than 30° apart), so
 // edges and corners where two walls or a wall and a symmetry plane meet are handled.
+// Exception (one-layer slabs, where every node lies on a symmetry plane): a slip-wall or
+// symmetry node that also lies on a far-field face first gets the far-field state, then
+// its wall constraints (the walls win for their normal components, the far field gives
+// the rest; rho E recomputed from the far-field pressure).
+// Wall velocities: along a symmetry normal u . n = 0 always; along the (Gram–Schmidt
+// orthogonalised) slip-wall normals (u - v_wall) . n = 0, v_wall from the node's slip-wall
+// group (set per node with set_wall_velocity, else its closure; the last such group in
+// the condition list when several meet).
 #include <array>
 #include <functional>
 #include <optional>
 #include <span>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <vector>
 
@@ -85,6 +94,16 @@ class BoundarySet {
   /// Nodal normals and wall constraints on the configuration x.
   void update_normals(std::span<const Vec3> x);
 
+  /// Per-node wall velocities of the slip_wall or no_slip_wall group `group`, one per node
+  /// of mesh.group(group).nodes in that (sorted) order. They replace the group's closure
+  /// `wall_velocity` until set again. Throws InputError for another kind, a group with no
+  /// condition, or a size mismatch.
+  void set_wall_velocity(std::string_view group, std::span<const Vec3> velocity);
+  /// The per-node velocities set for condition `c` (empty: not set), for snapshots.
+  const std::vector<std::vector<Vec3>>& set_wall_velocities() const { return set_velocity_; }
+  /// Restores what set_wall_velocities() returned (same boundary set).
+  void restore_wall_velocities(const std::vector<std::vector<Vec3>>& v);
+
   /// Imposes all conditions on u at time t; x, w: positions and mesh velocity.
   /// `initial_state`: u is a given initial field, not the result of a step (adiabatic
   /// no-slip walls then keep the pressure instead of the updated total energy).
@@ -102,10 +121,16 @@ class BoundarySet {
   std::span<const BoundaryFace> natural_faces() const { return natural_faces_; }
   /// Faces of adiabatic no-slip walls (they carry the work of the viscous stress).
   std::span<const BoundaryFace> adiabatic_wall_faces() const { return adiabatic_wall_faces_; }
+  /// Nodes where the far-field state is imposed (sorted), including slab nodes that also
+  /// get wall/symmetry constraints afterwards.
+  std::span<const Index> far_field_nodes() const { return far_nodes_; }
   /// Nodes where the no-slip condition is imposed (after priorities), sorted.
   std::span<const Index> no_slip_nodes() const { return no_slip_nodes_; }
-  /// Constraint directions at a slip-wall/symmetry node (empty span elsewhere).
+  /// Constraint directions at a slip-wall/symmetry node (empty span elsewhere), orthonormal,
+  /// the symmetry-plane directions first.
   std::span<const Vec3> wall_constraints(Index node) const;
+  /// How many of wall_constraints(node) come from symmetry planes (u . n = 0 there).
+  int symmetry_constraints(Index node) const;
   const std::vector<BoundaryCondition>& conditions() const { return conditions_; }
   /// The boundary face with these nodes (any order), with its owning element. Throws
   /// InputError when it is not a face of a group with a condition.
@@ -116,6 +141,17 @@ class BoundarySet {
     BoundaryFace face;
     int condition;
   };
+  /// A node's position in the node list of a condition's group.
+  struct GroupSlot {
+    int condition;
+    Index index;
+  };
+  Vec3 slip_velocity(std::size_t s, Index a, const Vec3& x, double t) const;
+  Vec3 no_slip_velocity(std::size_t s, Index a, const Vec3& x, double t) const;
+  void apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x,
+                       std::span<const Vec3> w, std::size_t s, FluidState& u) const;
+  void apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
+                  FluidState& u) const;
   std::vector<BoundaryCondition> conditions_;
   std::vector<Face> faces_;
   std::unordered_map<std::array<Index, 3>, std::size_t, FaceKeyHash> face_index_;
@@ -124,15 +160,23 @@ class BoundarySet {
   // no-slip nodes and their condition
   std::vector<Index> no_slip_nodes_;
   std::vector<int> no_slip_condition_;
+  std::vector<Index> no_slip_index_;  // position in the group's node list
+  // per-node wall velocities set from outside, per condition (empty: not set)
+  std::vector<std::vector<Vec3>> set_velocity_;
+  std::vector<Index> group_size_;  // nodes per condition's group
   // inflow nodes and their condition
   std::vector<std::pair<Index, int>> inflow_nodes_;
   // slip/symmetry nodes: faces adjacent (CSR, symmetry faces first), constraints, wall condition
   std::vector<Index> wall_nodes_;
   std::vector<Index> wall_face_offsets_;
   std::vector<Index> wall_faces_;
-  std::vector<int> wall_moving_condition_;  // condition index with a wall velocity, or -1
+  std::vector<Index> wall_sym_faces_;         // leading symmetry faces per node
+  std::vector<Index> wall_slip_offsets_;     // CSR: adjacent slip-wall groups, ascending
+  std::vector<GroupSlot> wall_slip_groups_;
   std::vector<std::array<Vec3, 3>> wall_normals_;
   std::vector<int> wall_num_normals_;
+  std::vector<int> wall_num_sym_normals_;
+  std::vector<Vec3> face_area_;  // work array of update_normals
   std::vector<Index> wall_slot_;  // node -> index in wall_nodes_, or -1
   // far-field nodes
   std::vector<Index> far_nodes_;

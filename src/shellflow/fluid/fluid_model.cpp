@@ -1,5 +1,6 @@
 #include "shellflow/fluid/fluid_model.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -62,6 +63,42 @@ void FluidModel::set_mesh_velocity(std::span<const Vec3> w) {
     throw InputError(fmt::format("fluid mesh velocity has {} entries for {} nodes", w.size(),
                                  x_.size()));
   w_.assign(w.begin(), w.end());
+}
+
+void FluidModel::set_wall_velocity(std::string_view group, std::span<const Vec3> velocity) {
+  boundaries_.set_wall_velocity(group, velocity);
+}
+
+void FluidModel::pressures(std::span<const Index> nodes, std::span<double> out) const {
+  if (nodes.size() != out.size())
+    throw InputError(fmt::format("fluid pressures: {} nodes but room for {} values", nodes.size(),
+                                 out.size()));
+  for (std::size_t k = 0; k < nodes.size(); ++k) out[k] = pressure(nodes[k]);
+}
+
+FluidSnapshot FluidModel::snapshot() const {
+  return {state_, x_, w_, time_, steps_, boundaries_.set_wall_velocities(), density_rate_};
+}
+
+void FluidModel::restore(const FluidSnapshot& s) {
+  const auto nn = std::size_t(mesh_.num_nodes());
+  bool sizes = s.x.size() == nn && s.w.size() == nn;
+  for (const auto& v : s.U.var) sizes = sizes && v.size() == nn;
+  if (!sizes)
+    throw InputError(fmt::format("fluid snapshot with {} states, {} positions and {} velocities "
+                                 "for mesh '{}' of {} nodes",
+                                 s.U.size(), s.x.size(), s.w.size(), mesh_.name, nn));
+  compute_geometry(s.x, tets_, next_geometry_);  // throws before anything changes
+  boundaries_.restore_wall_velocities(s.wall_velocity);
+  std::swap(geometry_, next_geometry_);
+  state_ = s.U;
+  x_ = s.x;
+  w_ = s.w;
+  boundaries_.update_normals(x_);
+  time_ = s.time;
+  steps_ = s.steps;
+  density_rate_ = s.density_rate;
+  viscosity_valid_ = false;
 }
 
 void FluidModel::check_cfl(double cfl) const {
@@ -127,13 +164,18 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     throw InputError(fmt::format("fluid mesh motion: {} positions and {} velocities for {} "
                                  "nodes", x_next.size(), w.size(), nn));
   const bool moves = x_next.data() != x_.data();
-  std::vector<Vec3> w_step(static_cast<std::size_t>(nn));
-  for (std::size_t a = 0; a < std::size_t(nn); ++a)
-    w_step[a] = !w.empty() ? w[a] : Vec3((x_next[a] - x_[a]) / dt);
-  update_viscosity();
-
+  // Mesh velocity of the step (a member: no allocation per step once sized).
+  w_next_.resize(std::size_t(nn));
+  auto& w_step = w_next_;
   bool mesh_moves = false;
-  for (const auto& v : w_step) mesh_moves = mesh_moves || v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
+#pragma omp parallel for schedule(static) reduction(|| : mesh_moves) if (nn > parallel_threshold)
+  for (Index a = 0; a < nn; ++a) {
+    const auto i = std::size_t(a);
+    const Vec3 v = !w.empty() ? w[i] : Vec3((x_next[i] - x_[i]) / dt);
+    w_step[i] = v;
+    mesh_moves = mesh_moves || v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
+  }
+  update_viscosity();
   ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction,
                        mesh_moves, {}, {}};
   if (local) {
@@ -190,20 +232,30 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     throw;
   }
 
-  // Steady-state residual: RMS of d(rho)/dt over the nodes.
-  double rate2 = 0.0;
-  for (Index a = 0; a < nn; ++a) {
-    const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
-                     (local ? nodal_dt_[std::size_t(a)] : dt);
-    rate2 += d * d;
+  // Steady-state residual: RMS of d(rho)/dt over the nodes, summed in fixed chunks (the
+  // same bits whatever the thread count).
+  constexpr Index chunk = 4096;
+  const Index num_chunks = (nn + chunk - 1) / chunk;
+  rate_sums_.resize(std::size_t(num_chunks));
+#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+  for (Index b = 0; b < num_chunks; ++b) {
+    double sum = 0.0;
+    for (Index a = b * chunk; a < std::min(nn, (b + 1) * chunk); ++a) {
+      const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
+                       (local ? nodal_dt_[std::size_t(a)] : dt);
+      sum += d * d;
+    }
+    rate_sums_[std::size_t(b)] = sum;
   }
+  double rate2 = 0.0;
+  for (const double sum : rate_sums_) rate2 += sum;
   density_rate_ = std::sqrt(rate2 / nn);
   std::swap(state_, next_state_);
   if (moves) {
     std::swap(geometry_, next_geometry_);
     x_.assign(x_next.begin(), x_next.end());
   }
-  w_ = std::move(w_step);
+  std::swap(w_, w_next_);
   time_ = t_next;
   ++steps_;
   viscosity_valid_ = false;
@@ -344,7 +396,7 @@ std::size_t bytes(const TetGeometry& g) {
 std::size_t FluidModel::memory_bytes() const {
   std::size_t b = bytes(mesh_.nodes) + bytes(mesh_.node_tags) + bytes(mesh_.cells.connectivity);
   for (const auto& g : mesh_.groups) b += bytes(g.elements.connectivity) + bytes(g.nodes) + bytes(g.cells);
-  b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_);
+  b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_) + bytes(w_next_) + bytes(rate_sums_);
   b += bytes(geometry_) + bytes(next_geometry_);
   b += bytes(state_) + bytes(next_state_) + bytes(residual_) + bytes(increment_) + bytes(mass_work_);
   b += bytes(av_work_.pressure) + bytes(av_work_.nodal_viscosity) + bytes(av_work_.speed);

@@ -48,6 +48,19 @@ struct WallTraction {
   std::vector<Vec3> shear;      ///< viscous part -tau n (zero for Euler)
 };
 
+/// Everything a step depends on besides the mesh and the options: restoring it and
+/// stepping gives the same bits as the original run (FluidModel::snapshot / restore).
+struct FluidSnapshot {
+  FluidState U;                ///< conservative nodal state
+  std::vector<Vec3> x, w;      ///< node positions and the mesh velocity of the last step
+  double time = 0.0;
+  long steps = 0;
+  /// Per-node wall velocities set with set_wall_velocity, per boundary condition (empty:
+  /// not set, the closure applies).
+  std::vector<std::vector<Vec3>> wall_velocity;
+  double density_rate = 0.0;   ///< monitor of the last step
+};
+
 class FluidModel {
  public:
   /// `mesh`: 4-node tetrahedra (renumber it with renumber_for_locality first for speed;
@@ -68,6 +81,31 @@ class FluidModel {
   double stable_dt(double cfl);
   /// Mesh velocity used by stable_dt before the first moving step.
   void set_mesh_velocity(std::span<const Vec3> w);
+
+  /// Velocities of the wall group `group` (slip_wall or no_slip_wall) at its nodes, one per
+  /// node of mesh().group(group).nodes in that order, at the end of the next step (t^{n+1}).
+  /// They replace the group's BoundaryCondition::wall_velocity closure and persist until
+  /// set again (set them before each step). Slip walls impose (u - v_wall) . n = 0 along
+  /// the wall normals only; along a symmetry plane's normal u . n = 0 whatever v_wall.
+  /// Where two slip-wall groups meet, the later one in the condition list gives v_wall.
+  /// Throws InputError naming the group for another kind or a wrong number of values.
+  void set_wall_velocity(std::string_view group, std::span<const Vec3> velocity);
+
+  /// Pressure at a node (no allocation, no bounds check).
+  double pressure(Index node) const {
+    const auto i = std::size_t(node);
+    return options_.gas.pressure(state_.var[0][i], state_.var[1][i], state_.var[2][i],
+                                 state_.var[3][i], state_.var[4][i]);
+  }
+  /// Pressures at `nodes` into `out` (same size; InputError otherwise). No allocation.
+  void pressures(std::span<const Index> nodes, std::span<double> out) const;
+
+  /// The state, positions, mesh velocity, time, step count and per-node wall velocities.
+  FluidSnapshot snapshot() const;
+  /// Back to a snapshot of this model: geometry and boundary normals recomputed from x.
+  /// Stepping from it then repeats the original steps bit for bit. Throws InputError for
+  /// sizes that do not match the mesh, SolverError for an inverted element in x.
+  void restore(const FluidSnapshot& snapshot);
 
   /// One step on a fixed mesh.
   void step(double dt);
@@ -126,7 +164,7 @@ class FluidModel {
   FluidOptions options_;
   std::vector<Index> tets_;  // connectivity in colour order
   CellColouring colours_;
-  std::vector<Vec3> x_, w_;
+  std::vector<Vec3> x_, w_, w_next_;
   TetGeometry geometry_, next_geometry_;
   BoundarySet boundaries_;
   FluidState state_, next_state_, residual_, increment_, mass_work_;
@@ -136,6 +174,7 @@ class FluidModel {
   NodalVelocityTemperature viscous_work_;
   std::vector<std::array<double, 4>> time_step_work_;
   std::vector<double> element_dt_, nodal_dt_;
+  std::vector<double> rate_sums_;  // partial sums of the density-rate monitor
   double density_rate_ = 0.0;
   bool viscosity_valid_ = false;
   double time_ = 0.0;
