@@ -158,23 +158,38 @@ void BM_SolveAndMassProduct(benchmark::State& state) {
 }
 BENCHMARK(BM_SolveAndMassProduct)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
+/// The strip with a follower pressure of 1 kPa on the whole shell.
+ShellModel make_model_copy_with_pressure() {
+  ShellModel model = *make_model("strip_20x1.geo");
+  model.add_follower_pressure({"", 1000.0});
+  return model;
+}
+
 /// Factorisation + solve alone on the strip: Eigen SimplicialLDLT with AMD on the full
 /// matrix (the previous NewtonLinearSolver), SparseLU, and NewtonLinearSolver (reduced
-/// system, node-graph AMD, value map; includes eliminating the supports and the copies).
+/// system, node-graph AMD, value map; includes eliminating the supports and the copies),
+/// symmetric (Arg 2) and with a follower pressure's load stiffness (Arg 3, reduced LU).
 void BM_Factorisation(benchmark::State& state) {
   const ShellModel& model = model_for(0);
   const bool lu = state.range(0) == 1;
-  if (state.range(0) == 2) {
-    state.SetLabel("NewtonLinearSolver strip244");
+  if (state.range(0) >= 2) {  // 3: with the load stiffness of a follower pressure, LU path
+    const bool pressure = state.range(0) == 3;
+    state.SetLabel(pressure ? "NewtonLinearSolver non-symmetric (reduced SparseLU) strip244"
+                            : "NewtonLinearSolver strip244");
     const Eigen::VectorXd u = deformed_state(model);
     SparseMatrix K = model.make_matrix();
     Eigen::VectorXd f;
     model.assemble(u, f, &K);
     const Eigen::VectorXd rhs = model.reference_load() - f;
+    if (pressure) {
+      ShellModel loaded = make_model_copy_with_pressure();
+      Eigen::VectorXd dummy = Eigen::VectorXd::Zero(model.num_dofs());
+      loaded.add_follower_loads(u, 1.0, 0.0, dummy, &K);
+    }
     NewtonLinearSolver solver;
     for (auto _ : state) {
       Eigen::VectorXd x = rhs;
-      solver.solve(K, model.constrained(), x);
+      solver.solve(K, model.constrained(), x, !pressure);
       benchmark::DoNotOptimize(x.data());
     }
     return;
@@ -203,7 +218,7 @@ void BM_Factorisation(benchmark::State& state) {
     benchmark::DoNotOptimize(x.data());
   }
 }
-BENCHMARK(BM_Factorisation)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Factorisation)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 /// One Newmark step of the reference strip (Newton to the §8 tolerances), free vibration
 /// from a uniform initial transverse velocity, Δt = 1e-4 s (~T1/320). Arg: 0 full Newton,
@@ -234,6 +249,33 @@ void BM_NewmarkStepStrip(benchmark::State& state) {
       static_cast<double>(solver.matrix_factorizations() - factorizations_before) / std::max(1, steps);
 }
 BENCHMARK(BM_NewmarkStepStrip)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
+
+/// One Newmark step of the reference strip under a follower pressure of 1 kPa on the whole
+/// strip (non-symmetric tangent), from rest, Δt = 1e-4 s. Arg: 0 full Newton, 1 modified
+/// Newton (refresh ratio 0.5).
+void BM_NewmarkStepStripPressure(benchmark::State& state) {
+  omp_set_num_threads(1);
+  static const auto model = [] {
+    auto m = make_model("strip_20x1.geo");
+    m->add_follower_pressure({"", 1000.0});
+    return m;
+  }();
+  state.SetLabel(state.range(0) == 0 ? "follower pressure, full Newton" : "follower pressure, modified Newton");
+  NewmarkOptions options;
+  options.newton.modified = state.range(0) == 1;
+  NewmarkSolver solver(*model, options, [](double) { return 1.0; });
+  solver.set_initial_state(Eigen::VectorXd::Zero(model->num_dofs()), Eigen::VectorXd::Zero(model->num_dofs()));
+  int iterations = 0, steps = 0;
+  const int factorizations_before = solver.matrix_factorizations();
+  for (auto _ : state) {
+    iterations += solver.advance(1e-4);
+    ++steps;
+  }
+  state.counters["newton_its_per_step"] = static_cast<double>(iterations) / std::max(1, steps);
+  state.counters["factorizations_per_step"] =
+      static_cast<double>(solver.matrix_factorizations() - factorizations_before) / std::max(1, steps);
+}
+BENCHMARK(BM_NewmarkStepStripPressure)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 /// The whole Sze 3.1 static run on the 8x1 cubic mesh (20 load steps to P_max = 4, Newton
 /// to the §8 tolerances), one thread, meshing excluded (the target: <= 0.2 s).

@@ -83,6 +83,37 @@ TEST(NewtonLinearSolver, ReducedLdltMatchesADenseSolveOfTheFreeDofs) {
   EXPECT_LT((x3 - expected).norm(), 1e-9 * expected.norm());
 }
 
+TEST(NewtonLinearSolver, ReducedLuOfANonSymmetricTangentMatchesADenseSolve) {
+  ShellModel model = small_strip();
+  model.add_support(Support::clamped("left"));
+  model.add_follower_pressure({"", 5e4});
+  SparseMatrix K0 = tangent(model);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(model.num_dofs()), f = u;
+  for (Index n = 0; n < model.num_nodes(); ++n) u(7 * n + 2) = 0.01 * model.mesh().nodes[static_cast<std::size_t>(n)].x();
+  model.add_follower_loads(u, 1.0, 0.0, f, &K0);
+  const Eigen::MatrixXd dense(K0);
+  ASSERT_GT((dense - dense.transpose()).norm(), 1e-6 * dense.norm());  // really non-symmetric
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(model.num_dofs());
+  const Eigen::VectorXd expected = dense_reduced_solve(K0, model.constrained(), b);
+  NewtonLinearSolver solver;
+  for (int round = 0; round < 2; ++round) {  // analysed once, factorised twice
+    SparseMatrix K = K0;
+    Eigen::VectorXd x = b;
+    ASSERT_TRUE(solver.solve(K, model.constrained(), x, false));
+    EXPECT_LT((x - expected).norm(), 1e-9 * expected.norm());
+    for (std::size_t i = 0; i < model.constrained().size(); ++i)
+      if (model.constrained()[i]) {
+        EXPECT_EQ(x(static_cast<Eigen::Index>(i)), 0.0);
+      }
+  }
+  // The same solver switches back to the symmetric path (symmetric K: LDLT).
+  SparseMatrix K = tangent(model);
+  const Eigen::VectorXd expected_symmetric = dense_reduced_solve(K, model.constrained(), b);
+  Eigen::VectorXd x = b;
+  ASSERT_TRUE(solver.solve(K, model.constrained(), x, true));
+  EXPECT_LT((x - expected_symmetric).norm(), 1e-9 * expected_symmetric.norm());
+}
+
 TEST(NewtonLinearSolver, NewConstraintsAreAnalysedAgain) {
   ShellModel model = small_strip();
   model.add_support(Support::clamped("left"));

@@ -162,11 +162,11 @@ TEST(ShellLoads, EdgeCoupleStiffnessIsTheDerivativeOfItsForce) {
   }
   SparseMatrix K = model.make_matrix();
   Eigen::VectorXd f = Eigen::VectorXd::Zero(model.num_dofs());
-  model.add_follower_loads(u, 0.8, f, &K);  // K holds -dF/du
+  model.add_follower_loads(u, 0.8, 0.0, f, &K);  // K holds -dF/du
   const double step = 1e-6;
   Eigen::VectorXd fp = Eigen::VectorXd::Zero(model.num_dofs()), fm = fp;
-  model.add_follower_loads(u + step * direction, 0.8, fp, nullptr);
-  model.add_follower_loads(u - step * direction, 0.8, fm, nullptr);
+  model.add_follower_loads(u + step * direction, 0.8, 0.0, fp, nullptr);
+  model.add_follower_loads(u - step * direction, 0.8, 0.0, fm, nullptr);
   const Eigen::VectorXd fd = (fp - fm) / (2 * step);
   const Eigen::VectorXd Kd = -(K * direction);
   EXPECT_LT((Kd - fd).norm() / fd.norm(), 1e-6);
@@ -187,7 +187,7 @@ TEST(ShellLoads, FollowerPressureTotalAndLoadStiffness) {
   model.add_follower_pressure({"", 7.0});
   EXPECT_FALSE(model.symmetric_tangent());
   Eigen::VectorXd f = Eigen::VectorXd::Zero(model.num_dofs());
-  model.add_follower_loads(Eigen::VectorXd::Zero(model.num_dofs()), 1.0, f, nullptr);
+  model.add_follower_loads(Eigen::VectorXd::Zero(model.num_dofs()), 1.0, 0.0, f, nullptr);
   Vec3 total = Vec3::Zero();
   for (Index n = 0; n < model.num_nodes(); ++n) total += f.segment<3>(7 * n);
   const Vec3 expected = 7.0 * 0.5 * 0.025 * model.directors()[0];
@@ -202,11 +202,11 @@ TEST(ShellLoads, FollowerPressureTotalAndLoadStiffness) {
   }
   SparseMatrix K = model.make_matrix();
   f.setZero();
-  model.add_follower_loads(u, 0.6, f, &K);  // K holds -dF/du
+  model.add_follower_loads(u, 0.6, 0.0, f, &K);  // K holds -dF/du
   const double step = 1e-7;
   Eigen::VectorXd fp = Eigen::VectorXd::Zero(model.num_dofs()), fm = fp;
-  model.add_follower_loads(u + step * direction, 0.6, fp, nullptr);
-  model.add_follower_loads(u - step * direction, 0.6, fm, nullptr);
+  model.add_follower_loads(u + step * direction, 0.6, 0.0, fp, nullptr);
+  model.add_follower_loads(u - step * direction, 0.6, 0.0, fm, nullptr);
   const Eigen::VectorXd fd = (fp - fm) / (2 * step);
   EXPECT_LT((-(K * direction) - fd).norm() / fd.norm(), 1e-6);
 }

@@ -27,7 +27,8 @@ void eliminate_supports(SparseMatrix& K, const std::vector<char>& constrained) {
 // Ordering on the node graph: the dofs of a node share their column pattern, so AMD on the
 // nodes (7x fewer vertices) orders as well as AMD on the dofs and keeps each node's free
 // dofs consecutive (denser columns of L).
-void NewtonLinearSolver::analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained) {
+void NewtonLinearSolver::analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained,
+                                         bool symmetric) {
   const Eigen::Index n = K.rows();
   const int block = n % dofs_per_node == 0 ? dofs_per_node : 1;
   const Eigen::Index num_blocks = n / block;
@@ -48,16 +49,16 @@ void NewtonLinearSolver::analyse_reduced(const SparseMatrix& K, const std::vecto
       const auto dof = static_cast<std::size_t>(order.indices()(k) * block + d);
       if (!constrained[dof]) reduced_dof_[dof] = next++;
     }
-  // Upper triangle of the permuted reduced matrix; the values of the triplets carry the
-  // index of the source entry in K (exact in a double) and become the value map.
+  // Upper triangle (or all) of the permuted reduced matrix; the values of the triplets carry
+  // the index of the source entry in K (exact in a double) and become the value map.
   std::vector<Eigen::Triplet<double, int>> entries;
-  entries.reserve(static_cast<std::size_t>(K.nonZeros() / 2 + n));
+  entries.reserve(static_cast<std::size_t>(symmetric ? K.nonZeros() / 2 + n : K.nonZeros()));
   for (int col = 0; col < K.outerSize(); ++col) {
     const int pc = reduced_dof_[static_cast<std::size_t>(col)];
     if (pc < 0) continue;
     for (SparseMatrix::InnerIterator it(K, col); it; ++it) {
       const int pr = reduced_dof_[static_cast<std::size_t>(it.row())];
-      if (pr >= 0 && pr <= pc)
+      if (pr >= 0 && (pr <= pc || !symmetric))
         entries.emplace_back(pr, pc, static_cast<double>(&it.value() - K.valuePtr()));
     }
   }
@@ -67,8 +68,14 @@ void NewtonLinearSolver::analyse_reduced(const SparseMatrix& K, const std::vecto
   source_.resize(static_cast<std::size_t>(reduced_.nonZeros()));
   for (Eigen::Index k = 0; k < reduced_.nonZeros(); ++k)
     source_[static_cast<std::size_t>(k)] = static_cast<int>(reduced_.valuePtr()[k]);
-  ldlt_.analyzePattern(reduced_);
+  if (next > 0) {
+    if (symmetric)
+      ldlt_.analyzePattern(reduced_);
+    else
+      lu_.analyzePattern(reduced_);
+  }
   reduced_rhs_.resize(next);
+  analysed_symmetric_ = symmetric;
   analysed_constraints_ = constrained;
   analysed_nonzeros_ = K.nonZeros();
   analysed_size_ = n;
@@ -79,17 +86,9 @@ bool NewtonLinearSolver::factorize(SparseMatrix& K, const std::vector<char>& con
   eliminate_supports(K, constrained);
   constrained_ = constrained;
   symmetric_ = symmetric;
-  if (!symmetric) {
-    if (!lu_analysed_) {
-      lu_.analyzePattern(K);
-      lu_analysed_ = true;
-    }
-    lu_.factorize(K);
-    factorized_ = lu_.info() == Eigen::Success;
-    return factorized_;
-  }
-  if (analysed_size_ != K.rows() || analysed_nonzeros_ != K.nonZeros() || analysed_constraints_ != constrained)
-    analyse_reduced(K, constrained);
+  if (analysed_size_ != K.rows() || analysed_nonzeros_ != K.nonZeros() || analysed_constraints_ != constrained ||
+      analysed_symmetric_ != symmetric)
+    analyse_reduced(K, constrained, symmetric);
   if (reduced_.rows() == 0) {
     factorized_ = true;
     return true;
@@ -97,8 +96,13 @@ bool NewtonLinearSolver::factorize(SparseMatrix& K, const std::vector<char>& con
   const double* values = K.valuePtr();
   double* reduced_values = reduced_.valuePtr();
   for (std::size_t k = 0; k < source_.size(); ++k) reduced_values[k] = values[source_[k]];
-  ldlt_.factorize(reduced_);
-  factorized_ = ldlt_.info() == Eigen::Success;
+  if (symmetric) {
+    ldlt_.factorize(reduced_);
+    factorized_ = ldlt_.info() == Eigen::Success;
+  } else {
+    lu_.factorize(reduced_);
+    factorized_ = lu_.info() == Eigen::Success;
+  }
   return factorized_;
 }
 
@@ -106,18 +110,19 @@ bool NewtonLinearSolver::solve(Eigen::VectorXd& rhs) {
   if (!factorized_) return false;
   for (std::size_t i = 0; i < constrained_.size(); ++i)
     if (constrained_[i]) rhs(static_cast<Eigen::Index>(i)) = 0.0;
-  if (!symmetric_) {
-    rhs = lu_.solve(rhs).eval();
-    return lu_.info() == Eigen::Success && rhs.allFinite();
-  }
   if (reduced_.rows() == 0) {
     rhs.setZero();
     return true;
   }
   for (std::size_t i = 0; i < reduced_dof_.size(); ++i)
     if (reduced_dof_[i] >= 0) reduced_rhs_(reduced_dof_[i]) = rhs(static_cast<Eigen::Index>(i));
-  reduced_rhs_ = ldlt_.solve(reduced_rhs_).eval();
-  if (ldlt_.info() != Eigen::Success) return false;
+  if (symmetric_) {
+    reduced_rhs_ = ldlt_.solve(reduced_rhs_).eval();
+    if (ldlt_.info() != Eigen::Success) return false;
+  } else {
+    reduced_rhs_ = lu_.solve(reduced_rhs_).eval();
+    if (lu_.info() != Eigen::Success) return false;
+  }
   for (std::size_t i = 0; i < reduced_dof_.size(); ++i)
     rhs(static_cast<Eigen::Index>(i)) = reduced_dof_[i] >= 0 ? reduced_rhs_(reduced_dof_[i]) : 0.0;
   return rhs.allFinite();

@@ -9,12 +9,14 @@
 
 namespace shellflow::shell {
 
-/// Sparse solve of the Newton system with the supports eliminated. Symmetric systems are
-/// factorised with LDLT on the reduced system (free dofs only), ordered once by AMD on the
-/// graph of the nodes (7x7 blocks) and copied into a pre-permuted upper triangle through a
-/// precomputed value map: the factorisation then does no fill or work for fixed dofs and
-/// Eigen does not permute the matrix again at every factorisation. Non-symmetric systems
-/// (follower pressure) use SparseLU on the full matrix.
+/// Sparse solve of the Newton system with the supports eliminated, on the reduced system
+/// (free dofs only), ordered once by AMD on the graph of the nodes (7x7 blocks) and copied
+/// into a pre-permuted matrix through a precomputed value map: the factorisation then does
+/// no fill or work for fixed dofs and Eigen does not permute the matrix again at every
+/// factorisation. Symmetric systems: LDLT on the upper triangle. Non-symmetric systems
+/// (follower pressure, the linear load hook of NewmarkSolver): SparseLU on the whole reduced
+/// matrix with the same ordering (natural ordering inside SparseLU), its pattern analysed
+/// once and factorised per call.
 class NewtonLinearSolver {
  public:
   /// Zeroes constrained rows/columns of K (diagonal kept, a non-positive one set to 1) and
@@ -32,23 +34,24 @@ class NewtonLinearSolver {
   bool solve(Eigen::VectorXd& rhs);
 
  private:
-  void analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained);
+  void analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained, bool symmetric);
 
   using ReducedMatrix = SparseMatrix;
   Eigen::SimplicialLDLT<ReducedMatrix, Eigen::Upper, Eigen::NaturalOrdering<int>> ldlt_;
-  Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> lu_;
-  // Reduced, permuted system: reduced_(i, j) (upper triangle) = K.valuePtr()[source_[k]].
+  Eigen::SparseLU<ReducedMatrix, Eigen::NaturalOrdering<int>> lu_;
+  // Reduced, permuted system: reduced_(i, j) (upper triangle when symmetric, else all) =
+  // K.valuePtr()[source_[k]].
   ReducedMatrix reduced_;
   std::vector<int> source_;
   std::vector<int> reduced_dof_;  ///< full dof -> position in the reduced system, -1 when fixed
   std::vector<char> analysed_constraints_;
   Eigen::Index analysed_nonzeros_ = -1;
   Eigen::Index analysed_size_ = -1;
+  bool analysed_symmetric_ = true;
   Eigen::VectorXd reduced_rhs_;
   std::vector<char> constrained_;  ///< of the last factorisation
   bool symmetric_ = true;
   bool factorized_ = false;
-  bool lu_analysed_ = false;
 };
 
 /// The Newton system of a ShellModel, in global components: K and every right-hand side are

@@ -72,7 +72,8 @@ void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::Vec
   model_.apply_prescribed_velocity(time_, v_);
   for (Index n = 0; n < model_.num_nodes(); ++n) v_(dofs_per_node * n + 6) = 0.0;
   Eigen::VectorXd f_ext = load_factor_at(time_) * model_.reference_load();
-  model_.add_follower_loads(u_, load_factor_at(time_), f_ext, nullptr);
+  model_.add_follower_loads(u_, load_factor_at(time_), time_, f_ext, nullptr);
+  subtract_linear_load(u_, v_, f_ext);
   model_.assemble(u_, f_int_, nullptr);
   Eigen::VectorXd rhs = f_ext - f_int_ - options_.mass_damping * (nodal_mass_ * v_);
   SparseMatrix M = M_;
@@ -80,6 +81,49 @@ void NewmarkSolver::set_initial_state(const Eigen::VectorXd& u, const Eigen::Vec
   if (!mass_solver.factorize(M, true) || !mass_solver.solve(rhs))
     throw SolverError("shell dynamics: the mass matrix is singular on the position/director dofs");
   a_ = rhs;
+}
+
+void NewmarkSolver::set_linear_load(const SparseMatrix* stiffness, const SparseMatrix* damping) {
+  const SparseMatrix& pattern = K_;
+  for (const auto& [matrix, name] : {std::pair{stiffness, "stiffness"}, std::pair{damping, "damping"}}) {
+    if (!matrix) continue;
+    const bool same = matrix->rows() == pattern.rows() && matrix->cols() == pattern.cols() && matrix->isCompressed() &&
+                      matrix->nonZeros() == pattern.nonZeros() &&
+                      std::equal(pattern.outerIndexPtr(), pattern.outerIndexPtr() + pattern.cols() + 1,
+                                 matrix->outerIndexPtr()) &&
+                      std::equal(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros(),
+                                 matrix->innerIndexPtr());
+    if (!same)
+      throw InputError(fmt::format(
+          "shell dynamics: the linear load {} matrix must have the pattern of ShellModel::make_matrix ({}x{}, {} "
+          "entries; got {}x{}, {} entries)",
+          name, pattern.rows(), pattern.cols(), pattern.nonZeros(), matrix->rows(), matrix->cols(),
+          matrix->nonZeros()));
+  }
+  linear_stiffness_ = stiffness;
+  linear_damping_ = damping;
+  matrix_factorized_ = false;
+}
+
+void NewmarkSolver::subtract_linear_load(const Eigen::VectorXd& y, const Eigen::VectorXd& v,
+                                         Eigen::VectorXd& f_ext) const {
+  if (linear_stiffness_) f_ext -= *linear_stiffness_ * y;
+  if (linear_damping_) f_ext -= *linear_damping_ * v;
+}
+
+NewmarkState NewmarkSolver::state() const { return {u_, v_, a_, time_}; }
+
+void NewmarkSolver::restore(const NewmarkState& state) {
+  const Eigen::Index n = model_.num_dofs();
+  if (state.u.size() != n || state.v.size() != n || state.a.size() != n)
+    throw InputError(fmt::format("shell dynamics: restored state has {}, {}, {} entries, the model has {} dofs",
+                                 state.u.size(), state.v.size(), state.a.size(), n));
+  u_ = state.u;
+  v_ = state.v;
+  a_ = state.a;
+  time_ = state.time;
+  matrix_factorized_ = false;
+  refresh_matrix_ = false;
 }
 
 Vec3 NewmarkSolver::linear_momentum() const {
@@ -104,18 +148,20 @@ Vec3 NewmarkSolver::angular_momentum() const {
 // y = evaluation_state(u); inertia_forces(u) returns {the inertia and damping terms of g,
 // the inertia force M ü for the force scale}; the iteration matrix is
 // tangent_weight K(y) + mass_coefficient M.
-template <class EvaluationState, class InertiaForces>
-int NewmarkSolver::iterate(Eigen::VectorXd& u, double load_factor, double tangent_weight, double mass_coefficient,
-                           EvaluationState&& evaluation_state, InertiaForces&& inertia_forces) {
+template <class EvaluationState, class EvaluationVelocity, class InertiaForces>
+int NewmarkSolver::iterate(Eigen::VectorXd& u, double load_factor, double time, double tangent_weight,
+                           double mass_coefficient, double velocity_coefficient, EvaluationState&& evaluation_state,
+                           EvaluationVelocity&& evaluation_velocity, InertiaForces&& inertia_forces) {
   for (int it = 1; it <= options_.newton.max_iterations; ++it) {
     const bool new_matrix = needs_new_matrix(mass_coefficient);
     const Eigen::VectorXd y = evaluation_state(u);
     if (!model_.assemble(y, f_int_, new_matrix ? &K_ : nullptr)) return -1;
     Eigen::VectorXd f_ext = load_factor * model_.reference_load();
-    model_.add_follower_loads(y, load_factor, f_ext, new_matrix ? &K_ : nullptr);
+    model_.add_follower_loads(y, load_factor, time, f_ext, new_matrix ? &K_ : nullptr);
+    if (has_linear_load()) subtract_linear_load(y, evaluation_velocity(u), f_ext);
     const auto [inertia, inertia_force] = inertia_forces(u);
     const Eigen::VectorXd g = f_int_ - f_ext + inertia;
-    if (new_matrix && !factorize_iteration_matrix(tangent_weight, mass_coefficient)) return -1;
+    if (new_matrix && !factorize_iteration_matrix(tangent_weight, mass_coefficient, velocity_coefficient)) return -1;
     const double force_scale =
         std::max({model_.free_norm(f_ext), model_.free_norm(f_int_), model_.free_norm(inertia_force)});
     record_residual(it, model_.free_norm(g));
@@ -133,13 +179,22 @@ bool NewmarkSolver::needs_new_matrix(double mass_coefficient) const {
          factorized_mass_coefficient_ != mass_coefficient;
 }
 
-bool NewmarkSolver::factorize_iteration_matrix(double tangent_weight, double mass_coefficient) {
-  // H on the common pattern of K and M.
+bool NewmarkSolver::factorize_iteration_matrix(double tangent_weight, double mass_coefficient,
+                                               double velocity_coefficient) {
+  // H on the common pattern of K, M (and A, B).
   double* h = K_.valuePtr();
   const double* m = M_.valuePtr();
   for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] = tangent_weight * h[i] + mass_coefficient * m[i];
+  if (linear_stiffness_) {
+    const double* A = linear_stiffness_->valuePtr();
+    for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] += tangent_weight * A[i];
+  }
+  if (linear_damping_) {
+    const double* B = linear_damping_->valuePtr();
+    for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] += velocity_coefficient * B[i];
+  }
   ++matrix_factorizations_;
-  matrix_factorized_ = linear_solver_.factorize(K_);
+  matrix_factorized_ = linear_solver_.factorize(K_, model_.symmetric_tangent() && !has_linear_load());
   factorized_mass_coefficient_ = mass_coefficient;
   refresh_matrix_ = false;
   return matrix_factorized_;
@@ -170,7 +225,13 @@ int NewmarkSolver::try_newmark_step(double dt) {
   Eigen::VectorXd u = u_;  // predictor y_{s+1}^(0) = y_s (papers' practice)
   model_.apply_prescribed(t_next, u);
   // Forces at u itself; H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M.
-  const int iterations = iterate(u, lf, 1.0, mass_coefficient, [](const Eigen::VectorXd& y) { return y; },
+  // Linear load: v_{n+1}(u) = R + gamma dt a_{n+1}(u) = R - gamma dt Q + gamma/(beta dt) u.
+  const double velocity_coefficient = gamma / (beta * dt);
+  const int iterations = iterate(u, lf, t_next, 1.0, mass_coefficient, velocity_coefficient,
+                                 [](const Eigen::VectorXd& y) { return y; },
+                                 [&](const Eigen::VectorXd& y) {
+                                   return Eigen::VectorXd(R - gamma * dt * Q + velocity_coefficient * y);
+                                 },
                                  [&](const Eigen::VectorXd& y) {
                                    const Eigen::VectorXd My = nodal_mass_ * y;
                                    return std::pair{Eigen::VectorXd(mass_coefficient * My + inertia_history),
@@ -204,8 +265,11 @@ int NewmarkSolver::try_midpoint_step(double dt) {
   Eigen::VectorXd u = u_ + dt * v_;  // explicit predictor (v is zero on `a`)
   model_.apply_prescribed(time_ + dt, u);
   // Forces at u_mid = (u_n + u)/2; H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M.
-  const int iterations = iterate(u, lf, 0.5, mass_coefficient,
+  // Linear load: y_mid = (u_n + u)/2, v_mid = (v_n + v_{n+1})/2 = (u - u_n)/dt, so the
+  // iteration matrix gets A/2 + B/dt.
+  const int iterations = iterate(u, lf, t_mid, 0.5, mass_coefficient, 1.0 / dt,
                                  [&](const Eigen::VectorXd& y) { return Eigen::VectorXd(0.5 * (u_ + y)); },
+                                 [&](const Eigen::VectorXd& y) { return Eigen::VectorXd((y - u_) / dt); },
                                  [&](const Eigen::VectorXd& y) {
                                    const Eigen::VectorXd M_du = nodal_mass_ * (y - u_);
                                    const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;

@@ -43,9 +43,18 @@ struct NewmarkOptions {
   NewtonOptions newton;
 };
 
+/// The whole state of a NewmarkSolver (NewmarkSolver::state / restore).
+struct NewmarkState {
+  Eigen::VectorXd u, v, a;
+  double time = 0.0;
+};
+
 class NewmarkSolver {
  public:
-  /// `load_factor(t)` multiplies the model's dead loads (and edge couples); default 0.
+  /// `load_factor(t)` multiplies the model's dead loads, edge couples and follower pressures
+  /// without history; default 0. Follower pressures with a history and the model's point
+  /// loads are not scaled by it. The solver reads the model's loads at every Newton
+  /// iteration, so point loads set on the model between steps act in the next step.
   NewmarkSolver(const ShellModel& model, NewmarkOptions options = {},
                 std::function<double(double)> load_factor = {});
 
@@ -60,6 +69,25 @@ class NewmarkSolver {
   /// Advances by dt (sub-stepping by halves on failure, up to newton.max_cutbacks levels).
   /// Returns the Newton iterations used. Throws SolverError naming the time on failure.
   int advance(double dt);
+
+  /// A linear external force −(A y + B ẏ) (e.g. a linearised aerodynamic model), evaluated
+  /// at the scheme's state in every Newton iteration (Newmark: y = u_{n+1} and
+  /// ẏ = v_{n+1}(u_{n+1}); midpoint: y = (u_n + u_{n+1})/2, ẏ = (u_{n+1} − u_n)/dt) and in
+  /// set_initial_state, with its derivative in the iteration matrix: A · tangent_weight +
+  /// B · velocity coefficient (Newmark γ/(β dt), midpoint 1/dt). y, ẏ are the increments
+  /// and rates in global components. Either may be null (both null: removed). Both must
+  /// have exactly the pattern of ShellModel::make_matrix (InputError otherwise) and outlive
+  /// the solver or the next call; their values are read at every iteration. The iteration
+  /// matrix is then factorised as non-symmetric. Call again after changing their values
+  /// under modified Newton (it marks a kept matrix stale).
+  void set_linear_load(const SparseMatrix* stiffness, const SparseMatrix* damping);
+
+  /// The current state (u, v, a, time), exact.
+  NewmarkState state() const;
+  /// Sets the state exactly as given (no re-equilibration: no acceleration solve, no
+  /// projection of the supports) and marks a kept modified-Newton iteration matrix stale.
+  /// Throws InputError for vectors of the wrong size.
+  void restore(const NewmarkState& state);
 
   double time() const { return time_; }
   const Eigen::VectorXd& displacement() const { return u_; }
@@ -89,14 +117,19 @@ class NewmarkSolver {
   int try_midpoint_step(double dt);
   double load_factor_at(double t) const { return load_factor_ ? load_factor_(t) : 0.0; }
   /// Newton on the end state u of a step (the loop both schemes share); the iterations or -1.
-  template <class EvaluationState, class InertiaForces>
-  int iterate(Eigen::VectorXd& u, double load_factor, double tangent_weight, double mass_coefficient,
-              EvaluationState&& evaluation_state, InertiaForces&& inertia_forces);
+  template <class EvaluationState, class EvaluationVelocity, class InertiaForces>
+  int iterate(Eigen::VectorXd& u, double load_factor, double time, double tangent_weight, double mass_coefficient,
+              double velocity_coefficient, EvaluationState&& evaluation_state,
+              EvaluationVelocity&& evaluation_velocity, InertiaForces&& inertia_forces);
   /// Whether this iteration assembles and factorises the iteration matrix
   /// H = tangent_weight K + mass_coefficient M (always, unless NewtonOptions::modified).
   bool needs_new_matrix(double mass_coefficient) const;
-  /// H from the K_ just assembled, factorised; false when singular.
-  bool factorize_iteration_matrix(double tangent_weight, double mass_coefficient);
+  /// H from the K_ just assembled (+ tangent_weight A + velocity_coefficient B), factorised;
+  /// false when singular.
+  bool factorize_iteration_matrix(double tangent_weight, double mass_coefficient, double velocity_coefficient);
+  bool has_linear_load() const { return linear_stiffness_ || linear_damping_; }
+  /// Subtracts A y + B v from f_ext.
+  void subtract_linear_load(const Eigen::VectorXd& y, const Eigen::VectorXd& v, Eigen::VectorXd& f_ext) const;
   /// Records the residual norm of an iteration (modified Newton: a poor contraction asks for
   /// a new matrix at the next iteration).
   void record_residual(int iteration, double residual_norm);
@@ -117,6 +150,8 @@ class NewmarkSolver {
   double last_residual_ = 0.0;
   int matrix_factorizations_ = 0;
   std::vector<char> inertial_fixed_;  ///< constrained dofs plus every `a` (no inertia)
+  const SparseMatrix* linear_stiffness_ = nullptr;  ///< A of set_linear_load
+  const SparseMatrix* linear_damping_ = nullptr;    ///< B of set_linear_load
 };
 
 }  // namespace shellflow::shell

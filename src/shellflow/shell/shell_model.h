@@ -1,9 +1,12 @@
 #pragma once
-// A shell model: mesh + section + supports + dead loads, and the global operators of the
-// positional shell (internal force, tangent, mass) assembled into Eigen sparse matrices
-// whose pattern is computed once. Unknowns: increments u = y - y0, node-major, 7 per node
+// A shell model: mesh + section + supports + loads (dead, follower, and per-load-point loads
+// set from outside), and the global operators of the positional shell (internal force,
+// tangent, mass) assembled into Eigen sparse matrices whose pattern is computed once.
+// Definitions: shell_model.cpp (construction, assembly), shell_supports.cpp, shell_loads.cpp. Unknowns: increments u = y - y0, node-major, 7 per node
 // [dx (3), dG (3), a] (shell.md §0, §2.5).
 #include <array>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <variant>
@@ -16,6 +19,7 @@
 #include "shellflow/mesh/mesh.h"
 #include "shellflow/shell/material.h"
 #include "shellflow/shell/shell_element.h"
+#include "shellflow/shell/shell_point.h"
 
 namespace shellflow::shell {
 
@@ -108,9 +112,24 @@ struct EdgeCouple {
 /// Follower pressure on the mid-surface (shell.md §11), positive along the current normal
 /// oriented like the directors V; per current area. `group` names a surface group of the
 /// shell mesh, or is empty for the whole shell. Makes the tangent non-symmetric.
+/// Without `history` the pressure is `pressure` times the analysis load factor; with it,
+/// `pressure * history(t)` at the solver's evaluation time t (NewmarkSolver: the end of the
+/// step for Newmark, its midpoint for the midpoint rule, the current time in
+/// set_initial_state; StaticSolver: the load factor as pseudo-time), whatever the load
+/// factor (e.g. a cavity pressure).
 struct FollowerPressure {
   std::string group;
   double pressure = 0.0;
+  std::optional<TimeFunction> history = std::nullopt;
+};
+
+/// An in-plane quadrature point of the shell (section.plane_degree rule), where the
+/// follower-pressure kernel and the point loads act (ShellModel::load_points).
+struct LoadPoint {
+  ShellPoint point{};             ///< element and xi of the quadrature point
+  Vec3 position = Vec3::Zero();   ///< reference mid-surface point X̂(xi)
+  Vec3 normal = Vec3::Zero();     ///< reference unit normal X̂_1 × X̂_2 / |…| (oriented like V)
+  double weight = 0.0;            ///< reference area weight w_q |X̂_1 × X̂_2|
 };
 
 /// Elements of one triangle type with their precomputed geometry and a colouring in which
@@ -187,14 +206,40 @@ class ShellModel {
   void remove_fixed_part(Eigen::VectorXd& v) const;
   /// Dead external force at load factor 1.
   const Eigen::VectorXd& reference_load() const { return reference_load_; }
-  /// Adds the edge couples and follower pressures at load factor `load_factor` to `force`
-  /// and, when K is given, subtracts their load stiffness from K (K is the tangent of
-  /// F_int - F_ext).
-  void add_follower_loads(const Eigen::VectorXd& u, double load_factor, Eigen::VectorXd& force,
+  /// Adds the state- and time-dependent loads to `force`: edge couples and follower
+  /// pressures without history at load factor `load_factor`, follower pressures with a
+  /// history at time `time`, and the point pressures and point tractions as set (not
+  /// scaled). When K is given (made by make_matrix) subtracts their load stiffness from it
+  /// (K is the tangent of F_int - F_ext), scattered in the coloured element loop.
+  void add_follower_loads(const Eigen::VectorXd& u, double load_factor, double time, Eigen::VectorXd& force,
                           SparseMatrix* K) const;
-  bool has_follower_loads() const { return !edge_couples_.empty() || !pressures_.empty(); }
-  /// False with follower pressure (its load stiffness is not symmetric): use LU.
-  bool symmetric_tangent() const { return pressures_.empty(); }
+  /// Adds ∂/∂λ of add_follower_loads(u, λ, λ, ...) at λ = load_factor (statics, where the
+  /// load factor is also the time of the histories): edge couples and pressures without
+  /// history at factor 1, pressures with history times history'(λ); no point loads.
+  void add_follower_load_direction(const Eigen::VectorXd& u, double load_factor, Eigen::VectorXd& direction) const;
+  bool has_follower_loads() const {
+    return !edge_couples_.empty() || !pressures_.empty() || !point_pressure_.empty() || !point_traction_.empty();
+  }
+  /// False with follower pressure or point pressures (their load stiffness is not
+  /// symmetric): the solvers then factorise with LU.
+  bool symmetric_tangent() const { return pressures_.empty() && point_pressure_.empty(); }
+
+  /// The in-plane quadrature points of every element, element-major (element 0's points in
+  /// rule order first), where follower pressures and point loads act; their weights sum to
+  /// the reference area.
+  const std::vector<LoadPoint>& load_points() const { return load_points_; }
+  /// Follower pressure per load point (per current area, positive along the current normal
+  /// oriented like V, with load stiffness, like FollowerPressure), not scaled by the load
+  /// factor. One value per load point (InputError otherwise). Kept until changed: every
+  /// later add_follower_loads (every Newton iteration of a solver) reads these values.
+  void set_point_pressure(std::span<const double> pressure);
+  /// Dead traction per reference area at each load point (F_x^j += φ_j t_q weight_q), not
+  /// scaled by the load factor; one vector per load point (InputError otherwise).
+  void set_point_traction(std::span<const Vec3> traction);
+  /// Removes the point pressures and point tractions.
+  void clear_point_loads();
+  const std::vector<double>& point_pressure() const { return point_pressure_; }
+  const std::vector<Vec3>& point_traction() const { return point_traction_; }
 
   /// A matrix with the model's sparsity pattern (all node pairs of an element, 7x7 blocks).
   SparseMatrix make_matrix() const;
@@ -218,6 +263,15 @@ class ShellModel {
   std::vector<Index> surface_cells(const std::string& group, std::string_view load_name) const;
   void compute_directors();
   void compute_pattern();
+  void compute_load_points();
+  /// Follower pressures (scale per entry of pressures_, plus the point pressures when
+  /// `with_point_pressure`) with their load stiffness.
+  void add_pressure_loads(const Eigen::VectorXd& u, const std::vector<double>& scale, bool with_point_pressure,
+                          Eigen::VectorXd& force, SparseMatrix* K) const;
+  /// Edge couples at factor `factor` with their load stiffness.
+  void add_edge_couples(const Eigen::VectorXd& u, double factor, Eigen::VectorXd& force, SparseMatrix* K) const;
+  /// Throws SolverError unless K has the pattern of make_matrix.
+  void check_pattern(const SparseMatrix& K, std::string_view what) const;
   void scatter(Index e, const double* Ke, int nd, SparseMatrix& K) const;
 
   mesh::Mesh mesh_;
@@ -247,8 +301,19 @@ class ShellModel {
   std::vector<EdgeCouple> edge_couples_;
   /// Per edge couple: nodes and their nodal couple weights m_j / m = ∫ phi_j ds0.
   std::vector<std::vector<std::pair<Index, double>>> edge_couple_weights_;
-  /// Per follower pressure: its value and the cells it acts on.
-  std::vector<std::pair<double, std::vector<Index>>> pressures_;
+  /// Per edge couple and node: value-array index of row 7 n + 3 in columns 7 n + 3, +4, +5.
+  std::vector<std::vector<std::array<int, 3>>> edge_couple_offsets_;
+  struct PressureLoad {
+    double pressure = 0.0;
+    std::optional<TimeFunction> history = std::nullopt;
+    std::vector<Index> cells{};
+  };
+  std::vector<PressureLoad> pressures_;
+  std::vector<LoadPoint> load_points_;
+  int points_per_element_ = 0;
+  std::vector<double> point_pressure_;  ///< empty or one per load point
+  std::vector<Vec3> point_traction_;    ///< empty or one per load point
+  Eigen::VectorXd point_traction_force_;
 };
 
 /// Nodal values of a 7-per-node vector.

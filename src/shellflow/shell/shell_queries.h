@@ -7,14 +7,9 @@
 
 #include "shellflow/mesh/spatial_index.h"
 #include "shellflow/shell/shell_model.h"
+#include "shellflow/shell/shell_point.h"
 
 namespace shellflow::shell {
-
-/// A point of the mid-surface in parametric form.
-struct ShellPoint {
-  Index element = 0;
-  Vec2 xi = Vec2::Zero();
-};
 
 /// Sum_j phi_j(xi) v_j of the 3-vector at offset `component` (0: x rows, 3: G rows) of a
 /// 7-per-node vector (u: displacement, v: velocity, a: acceleration).

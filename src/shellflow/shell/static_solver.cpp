@@ -96,7 +96,7 @@ int StaticSolver::solve(double load_factor) {
     const bool new_tangent = !options_.modified || !tangent_kept_;
     if (!model_.assemble(u_, f_int_, new_tangent ? &K_ : nullptr)) break;
     f_ext = load_factor * model_.reference_load();
-    model_.add_follower_loads(u_, load_factor, f_ext, new_tangent ? &K_ : nullptr);
+    model_.add_follower_loads(u_, load_factor, load_factor, f_ext, new_tangent ? &K_ : nullptr);
     Eigen::VectorXd rhs = f_ext - f_int_;  // -g
     const double force_scale = force_scale_of(model_, f_ext, f_int_);
     const Eigen::VectorXd residual = -rhs;
@@ -138,7 +138,7 @@ bool StaticSolver::predict_prescribed(double load_factor) {
   if (!(jump.squaredNorm() > 0.0)) return true;
   if (!model_.assemble(u_, f_int_, &K_)) return false;
   Eigen::VectorXd rhs = load_factor * model_.reference_load();
-  model_.add_follower_loads(u_, load_factor, rhs, &K_);
+  model_.add_follower_loads(u_, load_factor, load_factor, rhs, &K_);
   rhs -= f_int_ + K_ * jump;
   tangent_kept_ = false;
   if (!linear_solver_.solve(K_, rhs)) return false;
@@ -178,7 +178,7 @@ void StaticSolver::set_state(const Eigen::VectorXd& u, double load_factor) {
 
 Eigen::VectorXd StaticSolver::load_direction() const {
   Eigen::VectorXd q = model_.reference_load();
-  model_.add_follower_loads(u_, 1.0, q, nullptr);  // follower loads are linear in λ
+  model_.add_follower_load_direction(u_, load_factor_, q);
   return q;
 }
 
@@ -186,7 +186,7 @@ double StaticSolver::relative_residual() const {
   Eigen::VectorXd f_int;
   if (!model_.assemble(u_, f_int, nullptr)) return std::numeric_limits<double>::infinity();
   Eigen::VectorXd f_ext = load_factor_ * model_.reference_load();
-  model_.add_follower_loads(u_, load_factor_, f_ext, nullptr);
+  model_.add_follower_loads(u_, load_factor_, load_factor_, f_ext, nullptr);
   const double scale = force_scale_of(model_, f_ext, f_int);
   return model_.free_norm(f_int - f_ext) / std::max(scale, std::numeric_limits<double>::min());
 }
@@ -195,7 +195,7 @@ bool StaticSolver::assemble_system(double load_factor, Eigen::VectorXd& residual
                                    double& force_scale) {
   if (!model_.assemble(u_, f_int_, &K_)) return false;
   Eigen::VectorXd f_ext = load_factor * model_.reference_load();
-  model_.add_follower_loads(u_, load_factor, f_ext, &K_);
+  model_.add_follower_loads(u_, load_factor, load_factor, f_ext, &K_);
   direction = load_direction();
   residual = f_int_ - f_ext;
   force_scale = force_scale_of(model_, f_ext, f_int_);

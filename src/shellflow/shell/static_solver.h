@@ -109,7 +109,9 @@ class StaticSolver {
   const Eigen::VectorXd& displacement() const { return u_; }
   double load_factor() const { return load_factor_; }
   const ShellModel& model() const { return model_; }
-  /// ∂F_ext/∂λ at the current state (dead loads plus follower loads at factor 1).
+  /// ∂F_ext/∂λ at the current state: dead loads plus follower loads at factor 1, pressure
+  /// histories through their derivative at λ (the load factor is their pseudo-time); the
+  /// model's point loads do not depend on λ (they act as set at every level).
   Eigen::VectorXd load_direction() const;
   /// Free-dof norm of F_int - F_ext at the current state and load factor, relative to
   /// max(‖F_ext‖, ‖F_int‖) (the §8 residual measure). +inf for an inadmissible state.
