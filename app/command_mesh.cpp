@@ -39,7 +39,7 @@ int mesh_command(const CommonOptions& options, bool json) {
   }
   std::fflush(stdout);
   spdlog::info("wrote {}: <mesh>.msh, <mesh>.vtu, meshes.json", outdir.string());
-  if (options.plot) make_plot("plot_mesh.py", fmt::format("\"{}\"", outdir.string()));
+  if (options.plot) make_plot("plot_mesh.py", {outdir.string()});
   return 0;
 }
 

@@ -3,7 +3,7 @@
 // A run meshes the case, sets up its initial state (the shell at rest, the fluid at the free
 // stream) and writes it (<mesh>_000000.vtu + <mesh>.pvd). Then, by the case's sections: a
 // prescribed mesh motion (motion_run.h), a shell analysis (shell_run.h) or a flow analysis
-// (fluid_run.h) — one of them; the coupled fluid-structure run is not available yet.
+// (fluid_run.h) — one of them — or, with a `coupling` section, the coupled run (coupled_run.h).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "fluid_fields.h"
 #include "motion_run.h"
+#include "coupled_run.h"
 #include "shell_run.h"
 #include "fluid_run.h"
 #include "output_dir.h"
@@ -91,7 +92,10 @@ int run_command(const CommonOptions& options) {
     io::write_mesh_vtu(outdir / vtu, *m, std::move(fields), time);
     io::PvdWriter(outdir, m->name).add(time, vtu);
   }
-  if (c.motion) {
+  if (c.coupling) {
+    // Shell and flow (or piston theory, or only the fluid mesh) together.
+    run_coupled(c, meshes, probes, state.views, outdir, options.plot);
+  } else if (c.motion) {
     // Prescribed boundary motion, no flow: the mesh-motion tests of the paper.
     run_mesh_motion(c, meshes, probes, state.views, outdir, options.plot);
   } else if (c.shell && c.shell->analysis) {
@@ -101,14 +105,12 @@ int run_command(const CommonOptions& options) {
   } else {
     probes.record(time, state.views);
     spdlog::warn("nothing to integrate: the case has no 'motion', 'shell.analysis' or "
-                 "'fluid.analysis' (the coupled panel-flutter run is not available yet); wrote "
+                 "'fluid.analysis' (or a 'coupling' section); wrote "
                  "the initial state (t = 0) only");
   }
   spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
   if (options.plot) {
-    make_plot("plot_probes.py",
-              fmt::format("\"{}\" -o \"{}\"", (outdir / "probes.csv").string(),
-                          (outdir / "probes.png").string()));
+    make_plot("plot_probes.py", {(outdir / "probes.csv").string(), "-o", (outdir / "probes.png").string()});
   }
   return 0;
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace shellflow::app {
 
@@ -17,8 +18,9 @@ int run_command(const CommonOptions& options);
 int mesh_command(const CommonOptions& options, bool json);
 int check_command(const CommonOptions& options);
 
-/// Runs tools/<script> with Debian's Python on `args`; logs a warning (not an error) if the
-/// plot cannot be made, since the numerical output is already written.
-void make_plot(const std::string& script, const std::string& args);
+/// Runs tools/<script> with Debian's Python on the argument vector `args` (no shell is
+/// involved); logs a warning (not an error) if the plot cannot be made, since the numerical
+/// output is already written.
+void make_plot(const std::string& script, const std::vector<std::string>& args);
 
 }  // namespace shellflow::app

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "commands.h"
+#include "field_writers.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/progress.h"
 #include "shellflow/io/mesh_output.h"
@@ -16,6 +17,7 @@
 #include "shellflow/mesh/quality.h"
 #include "shellflow/motion/laplace_mover.h"
 #include "shellflow/motion/mesh_mover.h"
+#include "shellflow/setup/motion_setup.h"
 
 namespace shellflow::app {
 namespace {
@@ -40,13 +42,7 @@ std::unique_ptr<motion::FluidMeshMover> make_mover(const io::MotionSection& m,
   const mesh::Mesh& fluid = *meshes.fluid;
   switch (m.method) {
     case io::MotionMethod::space_mesh: {
-      motion::SpaceMeshOptions options;
-      options.interface_groups = m.interface_groups;
-      options.fixed_groups = m.fixed_groups;
-      options.sliding_groups = m.sliding_groups;
-      options.interface_exponent = m.interface_exponent;
-      options.fixed_exponent = m.fixed_exponent;
-      options.weighting = weighting;
+      const motion::SpaceMeshOptions options = setup::space_mesh_options(m);
       // IDW samples: the shell's nodes when the case has a shell mesh (the paper's sums),
       // else the fluid mesh's interface nodes.
       std::vector<Vec3> samples;
@@ -75,12 +71,6 @@ std::unique_ptr<motion::FluidMeshMover> make_mover(const io::MotionSection& m,
   throw Error("unknown motion method");
 }
 
-std::vector<double> flatten(std::span<const Vec3> v) {
-  std::vector<double> out;
-  out.reserve(3 * v.size());
-  for (const Vec3& x : v) out.insert(out.end(), x.data(), x.data() + 3);
-  return out;
-}
 
 }  // namespace
 
@@ -201,9 +191,9 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
   }
   progress.finish();
   std::fflush(stdout);
-  if (plot) make_plot("plot_probes.py", fmt::format("\"{}\" --x A1 -o \"{}\"",
-                                          (outdir / "motion_quality.csv").string(),
-                                          (outdir / "motion_quality.png").string()));
+  if (plot)
+    make_plot("plot_probes.py", {(outdir / "motion_quality.csv").string(), "--x", "A1", "-o",
+                                 (outdir / "motion_quality.png").string()});
   spdlog::info("mesh motion: {} steps, fluid mesh valid throughout; quality history in {}", steps,
                (outdir / "motion_quality.csv").string());
 }

@@ -1,8 +1,14 @@
 #include "output_dir.h"
 
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
-#include <cstdlib>
+#include <spawn.h>
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <cstring>
+#include <vector>
 
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
@@ -20,17 +26,34 @@ std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions&
   return dir;
 }
 
-void make_plot(const std::string& script, const std::string& args) {
+extern "C" char** environ;
+
+void make_plot(const std::string& script, const std::vector<std::string>& args) {
   const auto path = std::filesystem::path(shellflow::source_dir) / "tools" / script;
   if (!std::filesystem::exists(path)) {
     spdlog::warn("plot skipped: {} not found", path.string());
     return;
   }
-  const std::string command = fmt::format("\"{}\" \"{}\" {}", SHELLFLOW_PYTHON, path.string(), args);
-  spdlog::debug("plot: {}", command);
-  if (std::system(command.c_str()) != 0) {
-    spdlog::warn("plot failed ({}); the numerical output is complete", command);
+  // An argument vector, no shell: output directories may hold any character.
+  std::vector<std::string> words{SHELLFLOW_PYTHON, path.string()};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& w : words) argv.push_back(w.data());
+  argv.push_back(nullptr);
+  spdlog::debug("plot: {} {}", SHELLFLOW_PYTHON, fmt::join(std::vector<std::string>(words.begin() + 1, words.end()), " "));
+  pid_t pid = 0;
+  const int rc = posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ);
+  if (rc != 0) {
+    spdlog::warn("plot failed: cannot start {} ({}); the numerical output is complete", SHELLFLOW_PYTHON,
+                 std::strerror(rc));
+    return;
   }
+  int status = 0;
+  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    spdlog::warn("plot failed ({} exited with status {}); the numerical output is complete", script,
+                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
 }
 
 }  // namespace shellflow::app

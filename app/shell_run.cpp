@@ -1,5 +1,7 @@
 #include "shell_run.h"
 
+#include "field_writers.h"
+
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -11,187 +13,31 @@
 #include "shellflow/core/progress.h"
 #include "shellflow/io/mesh_output.h"
 #include "shellflow/io/pvd_writer.h"
-#include "shellflow/mesh/spatial_index.h"
 #include "shellflow/shell/newmark_solver.h"
 #include "shellflow/shell/shell_model.h"
-#include "shellflow/shell/shell_stress.h"
 #include "shellflow/shell/static_solver.h"
+#include "shellflow/setup/shell_setup.h"
 
 namespace shellflow::app {
-namespace {
-
-shell::ShellModel build_model(const io::ShellSection& s, const mesh::Mesh& mesh) {
-  shell::ShellSection section;
-  section.thickness = s.thickness;
-  section.material = {s.material.young_modulus, s.material.poisson_ratio, s.material.density};
-  shell::ShellModel model(mesh, section);
-  for (const io::Support& support : s.supports) {
-    // The model's messages name the mesh and group; the case file's line goes in front.
-    try {
-      switch (support.type) {
-        case io::SupportType::clamped:
-          model.add_support(shell::Support::clamped(support.group));
-          break;
-        case io::SupportType::simply_supported:
-          model.add_support(shell::Support::simply_supported(support.group));
-          break;
-        case io::SupportType::simply_supported_hard:
-          model.add_hard_simple_support(support.group);
-          break;
-        case io::SupportType::symmetry:
-          model.add_support(
-              shell::DirectionalSupport::symmetry_plane(support.group, support.normal));
-          break;
-        case io::SupportType::sliding:
-          model.add_support(shell::DirectionalSupport::roller(support.group, support.direction,
-                                                              support.clamp_director));
-          break;
-        case io::SupportType::prescribed: {
-          shell::PrescribedMotion motion;
-          motion.group = support.group;
-          motion.displacement = support.displacement;
-          // Without its own history the motion scales like the loads: with the load factor
-          // (the pseudo-time of a static run) or the dynamic load function.
-          const bool dynamic = s.analysis && s.analysis->type == io::ShellAnalysisType::dynamic;
-          motion.displacement_history = support.displacement_history ? *support.displacement_history
-                                        : dynamic                    ? s.analysis->load_function
-                                                                     : TimeFunction::ramp(1.0, 1.0);
-          motion.rotation_axis = support.rotation_axis;
-          motion.rotation_angle = support.rotation_angle;
-          model.add_prescribed_motion(motion);
-          break;
-        }
-      }
-    } catch (const InputError& e) {
-      throw_at(support.where, e.what());
-    }
-  }
-  const mesh::PointIndex nodes(mesh.nodes);
-  for (const io::ShellLoad& load : s.loads) {
-    switch (load.type) {
-      case io::ShellLoadType::line:
-        model.add_line_load({load.group, load.vector});
-        break;
-      case io::ShellLoadType::point: {
-        const auto hit = nodes.nearest(load.point);
-        if (hit.distance > 1e-6 * model.reference_length()) {
-          throw_at(load.where,
-                   fmt::format("no shell node at ({}, {}, {}): the nearest is {:.3g} m "
-                               "away; put point loads on a node",
-                               load.point.x(), load.point.y(), load.point.z(), hit.distance));
-        }
-        model.add_point_load({hit.index, load.vector});
-        break;
-      }
-      case io::ShellLoadType::edge_couple:
-        model.add_edge_couple({load.group, load.vector, load.value});
-        break;
-      case io::ShellLoadType::pressure:
-        model.add_follower_pressure({load.group, load.value});
-        break;
-      case io::ShellLoadType::gravity:
-        model.add_gravity(load.vector);
-        break;
-      case io::ShellLoadType::surface:
-        model.add_surface_traction({load.group, load.vector});
-        break;
-    }
-  }
-  return model;
-}
-
-/// Node-major 3-vectors of the dofs [offset, offset + 3) of every node.
-std::vector<double> nodal_part(const Eigen::VectorXd& u, Index nodes, int offset) {
-  std::vector<double> out(3 * static_cast<std::size_t>(nodes));
-  for (Index n = 0; n < nodes; ++n)
-    for (int i = 0; i < 3; ++i)
-      out[3 * static_cast<std::size_t>(n) + static_cast<std::size_t>(i)] =
-          u[shell::dofs_per_node * n + offset + i];
-  return out;
-}
-
-/// One nodal field for the VTU: name, components, values (owned).
-using OwnedField = std::tuple<std::string, int, std::vector<double>>;
-
-/// Nodal stress tensors (9 components, row-major) and their von Mises values on the bottom,
-/// middle and top surfaces, for the VTU.
-std::vector<OwnedField> stress_fields(const shell::ShellModel& model, const Eigen::VectorXd& u,
-                                      io::OutputSection::ShellStress kind) {
-  std::vector<OwnedField> out;
-  if (kind == io::OutputSection::ShellStress::none) return out;
-  const bool cauchy = kind == io::OutputSection::ShellStress::cauchy;
-  const auto measure =
-      cauchy ? shell::StressMeasure::cauchy : shell::StressMeasure::second_piola_kirchhoff;
-  const std::string prefix = cauchy ? "cauchy_stress" : "pk2_stress";
-  for (const auto& [side, side_name] : {std::pair{shell::SurfaceSide::bottom, "bottom"},
-                                        std::pair{shell::SurfaceSide::middle, "middle"},
-                                        std::pair{shell::SurfaceSide::top, "top"}}) {
-    const shell::NodalStresses nodal = shell::nodal_stresses(model, u, measure, side);
-    std::vector<double> tensor(9 * nodal.tensor.size());
-    for (std::size_t k = 0; k < nodal.tensor.size(); ++k)
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-          tensor[9 * k + static_cast<std::size_t>(3 * i + j)] = nodal.tensor[k](i, j);
-    out.emplace_back(fmt::format("{}_{}", prefix, side_name), 9, std::move(tensor));
-    out.emplace_back(fmt::format("von_mises_{}", side_name), 1, nodal.von_mises);
-  }
-  return out;
-}
-
-}  // namespace
-
 void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
                std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir) {
   const io::ShellSection& s = *c.shell;
   const io::ShellAnalysis& analysis = *s.analysis;
   const mesh::Mesh& mesh = *meshes.shell;
-  shell::ShellModel model = build_model(s, mesh);
+  shell::ShellModel model = setup::build_shell_model(s, mesh);
   const Index n = mesh.num_nodes();
-  io::PvdWriter pvd(outdir, "shell");
+  ShellWriter writer(model, outdir, c.output.shell_stress);
 
   // Records probes and (every output.every steps) fields of state u, v at time / level t.
   auto record = [&](long step, double t, const Eigen::VectorXd& u, const Eigen::VectorXd* v,
                     bool write_fields) {
-    const auto displacement = nodal_part(u, n, 0);
-    std::vector<double> director = nodal_part(u, n, 3);
-    for (Index k = 0; k < n; ++k)
-      for (int i = 0; i < 3; ++i)
-        director[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)] +=
-            model.directors()[static_cast<std::size_t>(k)][i];
-    std::vector<double> position(3 * static_cast<std::size_t>(n)),
-        thickness(static_cast<std::size_t>(n));
-    for (Index k = 0; k < n; ++k) {
-      for (int i = 0; i < 3; ++i)
-        position[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)] =
-            mesh.nodes[static_cast<std::size_t>(k)][i] +
-            displacement[3 * static_cast<std::size_t>(k) + static_cast<std::size_t>(i)];
-      thickness[static_cast<std::size_t>(k)] = u[shell::dofs_per_node * k + 6];
-    }
-    const std::vector<double> velocity =
-        v ? nodal_part(*v, n, 0) : std::vector<double>(3 * static_cast<std::size_t>(n), 0.0);
     std::vector<io::FieldView> fields;
     for (const auto& f : initial_fields)
       if (f.mesh != "shell") fields.push_back(f);
-    fields.push_back({"shell", "displacement", 3, displacement});
-    fields.push_back({"shell", "velocity", 3, velocity});
-    fields.push_back({"shell", "position", 3, position});
+    const auto views = writer.update(u, v);
+    fields.insert(fields.end(), views.begin(), views.end());
     probes.record(t, fields);
-    if (!write_fields) return;
-    std::vector<Vec3> x(static_cast<std::size_t>(n));
-    for (Index k = 0; k < n; ++k)
-      x[static_cast<std::size_t>(k)] = Vec3(position[3 * static_cast<std::size_t>(k)],
-                                            position[3 * static_cast<std::size_t>(k) + 1],
-                                            position[3 * static_cast<std::size_t>(k) + 2]);
-    const std::string name = fmt::format("shell_{:06}.vtu", step);
-    std::vector<io::VtuField> vtu_fields = {{"displacement", 3, displacement},
-                                            {"velocity", 3, velocity},
-                                            {"director", 3, director},
-                                            {"thickness_parameter", 1, thickness}};
-    const std::vector<OwnedField> stress = stress_fields(model, u, c.output.shell_stress);
-    for (const auto& [field_name, components, values] : stress)
-      vtu_fields.push_back({field_name, components, values});
-    io::write_mesh_vtu(outdir / name, mesh, std::move(vtu_fields), t, x);
-    pvd.add(t, name);
+    if (write_fields) writer.write(step, t, u);
   };
 
   if (analysis.type == io::ShellAnalysisType::static_load) {
@@ -260,12 +106,7 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   }
 
   const TimeFunction load_function = analysis.load_function;
-  shell::NewmarkOptions options;
-  options.mass_damping = analysis.mass_damping;
-  options.newton.modified = analysis.modified_newton;
-  options.scheme = analysis.scheme == io::TimeScheme::midpoint ? shell::TimeScheme::midpoint
-                                                               : shell::TimeScheme::newmark;
-  shell::NewmarkSolver solver(model, options, [&](double t) { return load_function.value(t); });
+  shell::NewmarkSolver solver(model, setup::newmark_options(analysis), [&](double t) { return load_function.value(t); });
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
   solver.set_initial_state(zero, zero);
   record(0, 0.0, solver.displacement(), &solver.velocity(), true);

@@ -16,18 +16,20 @@ import unittest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 EXE = os.environ.get("SHELLFLOW_EXE", os.path.join(ROOT, "build", "release", "app", "shellflow"))
-PANEL = os.path.join(ROOT, "cases", "panel_flutter", "panel_flutter.yaml")
+PANEL = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped.yaml")
+PANEL_COARSE = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_coarse.yaml")
 
 
 def shellflow(*args):
     return subprocess.run([EXE, *args], capture_output=True, text=True, timeout=600)
 
 
-def panel_case_text():
-    with open(PANEL) as f:
+def panel_case_text(path=PANEL):
+    """The case text with its mesh files made absolute (so that it runs from anywhere)."""
+    with open(path) as f:
         text = f.read()
-    folder = os.path.dirname(PANEL)
-    return re.sub(r"geo: (\w+\.geo)", lambda m: "geo: " + os.path.join(folder, m.group(1)), text)
+    folder = os.path.dirname(path)
+    return re.sub(r"geo: ([\w./]+\.geo)", lambda m: "geo: " + os.path.normpath(os.path.join(folder, m.group(1))), text)
 
 
 def run_case(test, outdir, folder, name):
@@ -164,16 +166,104 @@ class MeshAndRunCommands(unittest.TestCase):
                 self.assertEqual(cells, report[key]["elements"], key + ext)
                 self.assertEqual(len(m.points), report[key]["nodes"], key + ext)
 
-    def test_3_run_writes_fields_probes_and_plot(self):
-        r = shellflow("run", PANEL, "-o", self.out)
+    def test_3_run_writes_fields_probes_and_plots(self):
+        # The coarse variant of the default case (the full one runs for minutes).
+        r = shellflow("run", PANEL_COARSE, "-o", self.out)
         self.assertEqual(r.returncode, 0, r.stderr)
         with open(os.path.join(self.out, "probes.csv"), newline="") as f:
             rows = list(csv.reader(f))
         self.assertEqual(rows[0], ["time", "w_x0600", "w_x0625", "p_panel_mean"])
-        self.assertEqual([float(v) for v in rows[1]], [0.0, 0.0, 0.0, 28000.0])
+        # t = 0: the panel at rest, the flow's own state (p from its conservative variables).
+        self.assertEqual([float(v) for v in rows[1][:3]], [0.0, 0.0, 0.0])
+        self.assertAlmostEqual(float(rows[1][3]), 28000.0, delta=1e-9 * 28000.0)
+        self.assertEqual(len(rows), 1 + 1 + 100)  # header, t = 0, 100 shell steps
         for key in ("fluid", "space", "shell"):
             self.assertTrue(os.path.exists(os.path.join(self.out, key + ".pvd")))
-        self.assertTrue(os.path.getsize(os.path.join(self.out, "probes.png")) > 1000)
+        for png in ("probes.png", "flutter.png", "flutter_growth.png", "mesh_quality.png"):
+            self.assertTrue(os.path.getsize(os.path.join(self.out, png)) > 1000, png)
+        # The cavity pressure dips by 0.1 % until 4 ms: the panel is pulled into the cavity.
+        self.assertLess(float(rows[40][1]), 0.0)
+
+
+class CoupledRuns(unittest.TestCase):
+    """Coupled shell + flow runs (cases/panel_flutter, cases/mesh_motion_tests)."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def write_case(self, text, name="case.yaml"):
+        path = os.path.join(self.tmp.name, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def test_piston_theory_flutter_grows_and_writes_the_coupling_log(self):
+        text = panel_case_text(os.path.join(ROOT, "cases", "panel_flutter", "clamped_sliding_piston.yaml"))
+        text = text.replace("end: 0.14", "end: 0.03")
+        out = os.path.join(self.tmp.name, "out")
+        r = shellflow("run", self.write_case(text), "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("coupled run: 300 shell steps", r.stderr)
+        with open(os.path.join(out, "coupling.csv"), newline="") as f:
+            rows = list(csv.reader(f))
+        self.assertEqual(rows[0][:3], ["time", "newton_iterations", "substeps"])
+        self.assertEqual(len(rows), 301)
+        with open(os.path.join(out, "probes.csv"), newline="") as f:
+            w = [abs(float(row[1])) for row in list(csv.reader(f))[1:]]
+        # Above the flutter boundary the oscillation grows: later peaks are larger.
+        self.assertGreater(max(w[200:]), 1.5 * max(w[100:200]))
+        self.assertTrue(os.path.getsize(os.path.join(out, "flutter_growth.png")) > 1000)
+
+    def test_mesh_motion_test_follows_the_shell(self):
+        out = os.path.join(self.tmp.name, "mm")
+        r, rows = run_case(self, out, "mesh_motion_tests", "up_5000.yaml")
+        self.assertEqual(len(rows), 1 + 1 + 12)  # header, t = 0, 12 shell steps
+        self.assertGreater(float(rows[-5][1]), 0.01)  # the panel bulges up by centimetres
+        with open(os.path.join(out, "mesh_quality.csv"), newline="") as f:
+            q = list(csv.reader(f))
+        self.assertEqual(q[0][1:], ["fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
+                                    "fluid_inverted", "space_min_relative_jacobian"])
+        self.assertTrue(all(float(row[4]) == 0 for row in q[1:]))
+        for key in ("fluid", "space", "shell"):
+            self.assertTrue(os.path.exists(os.path.join(out, key + ".pvd")), key)
+
+    def assert_run_error(self, text, *needles):
+        out = os.path.join(self.tmp.name, "err")
+        r = shellflow("run", self.write_case(text), "-o", out, "--no-plot")
+        self.assertNotEqual(r.returncode, 0, r.stderr)
+        lines = r.stderr.strip().splitlines()
+        for needle in needles:
+            self.assertIn(needle, lines[-1])
+        return lines[-1]
+
+    def test_meshes_that_do_not_share_the_wet_surface_are_refused(self):
+        text = panel_case_text(PANEL_COARSE).replace("fluid_group: panel", "fluid_group: far_field")
+        self.assert_run_error(text, "coupling", "largest gap", "max_gap")
+
+    def test_a_missing_coupling_group_names_the_group(self):
+        text = panel_case_text(PANEL_COARSE).replace("fluid_group: panel", "fluid_group: panell")
+        self.assert_run_error(text, "coupling.fluid_group", "panell", "panel")
+
+    def test_too_few_fixed_substeps_name_the_time_and_the_count_needed(self):
+        text = panel_case_text(PANEL_COARSE).replace("substeps: auto", "substeps: 3")
+        self.assert_run_error(text, "t = 0 s", "needs at least", "coupling.substeps")
+
+    def test_piston_theory_needs_the_wet_side(self):
+        text = panel_case_text(os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml"))
+        text = re.sub(r"\n  wet_normal:.*", "", text)
+        self.assert_run_error(text, "coupling", "wet_normal")
+
+    def test_every_coupled_case_is_valid(self):
+        for folder, names in (("panel_flutter", ("clamped_clamped", "clamped_sliding", "clamped_clamped_piston",
+                                                 "clamped_sliding_piston", "clamped_sliding_piston_monolithic",
+                                                 "clamped_clamped_coarse")),
+                              ("mesh_motion_tests", ("up_5000", "down_5000", "antisymmetric_15000"))):
+            for name in names:
+                r = shellflow("check", os.path.join(ROOT, "cases", folder, name + ".yaml"))
+                self.assertEqual(r.returncode, 0, name + ": " + r.stderr)
 
 
 class ShellRuns(unittest.TestCase):

@@ -78,7 +78,9 @@ TimeFunction TimeFunction::expression(std::string text) {
   return f;
 }
 
-double TimeFunction::value(double t) const {
+double TimeFunction::value(double t) const { return raw_value(t) + offset_; }
+
+double TimeFunction::raw_value(double t) const {
   switch (kind_) {
     case Kind::constant: return a_;
     case Kind::ramp: return a_ * std::clamp(t / b_, 0.0, 1.0);

@@ -36,6 +36,12 @@ class TimeFunction {
   /// a motion starting at t has.
   double derivative(double t) const;
   Kind kind() const { return kind_; }
+  /// f(t) + offset (same derivative), e.g. a pressure history relative to a reference.
+  TimeFunction shifted(double offset) const {
+    TimeFunction f = *this;
+    f.offset_ += offset;
+    return f;
+  }
 
   /// The first of `samples` equally spaced times in [t0, t1] (both ends included) where
   /// f or f' is not finite (an expression dividing by zero, log of a negative number ...),
@@ -48,6 +54,8 @@ class TimeFunction {
  private:
   Kind kind_ = Kind::constant;
   double a_ = 0.0, b_ = 0.0, c_ = 0.0;
+  double offset_ = 0.0;  ///< added to value()
+  double raw_value(double t) const;
   std::vector<double> times_, values_;
   Expression expression_;
 };

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "shellflow/core/error.h"
+#include "shellflow/io/case_sections.h"
 
 namespace shellflow::io {
 
@@ -73,21 +74,9 @@ std::string read_name(const YamlNode& node, std::string_view key) {
   return value;
 }
 
-/// A physical group name: non-empty string; recorded in `refs` for check_physical_groups().
-std::string read_group(const YamlNode& node, std::string_view mesh,
-                       std::vector<GroupReference>& refs) {
-  std::string group = node.required<std::string>("group");
-  if (group.empty()) node.fail("group", "expected a physical group name, got an empty string");
-  refs.push_back({group, std::string(mesh), node.location("group")});
-  return group;
-}
-
-/// A direction: normalised; a zero vector is an error.
-Vec3 unit_vector(const YamlNode& node, std::string_view key, const Vec3& v) {
-  const double n = v.norm();
-  if (!(n > 0.0)) node.fail(key, "must be a non-zero vector [x, y, z], got [0, 0, 0]");
-  return v / n;
-}
+using detail::read_group;
+using detail::read_time_function;
+using detail::unit_vector;
 
 /// Variables of the space-time expressions of a case file, in the order SpaceTimeScalar
 /// passes them: initial coordinates, then time.
@@ -191,57 +180,6 @@ MeshesSection read_meshes(const YamlNode& root) {
 }
 
 /// A time function: {type: constant|ramp|sine|tabulated, ...} (docs/case-format.md).
-TimeFunction read_time_function(const YamlNode& node) {
-  node.expect_map();
-  TimeFunction f = TimeFunction::constant(0.0);
-  switch (node.enumeration<TimeFunctionType>("type", kTimeFunctionNames)) {
-    case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
-    case TimeFunctionType::ramp:
-      f = TimeFunction::ramp(node.required<double>("value"),
-                             node.required<double>("duration", Range::positive(), "s"));
-      break;
-    case TimeFunctionType::sine:
-      f = TimeFunction::sine(node.required<double>("value"),
-                             node.required<double>("frequency", Range::positive(), "Hz"),
-                             node.optional<double>("phase", 0.0, Range::any(), "rad"));
-      break;
-    case TimeFunctionType::tabulated: {
-      std::vector<double> times, values;
-      for (const YamlNode& t : node.list("times")) times.push_back(t.as<double>());
-      for (const YamlNode& v : node.list("values")) values.push_back(v.as<double>());
-      if (times.empty() || times.size() != values.size()) {
-        node.fail("values", fmt::format("expected as many values as times (at least one), got {} "
-                                        "times and {} values", times.size(), values.size()));
-      }
-      for (std::size_t i = 1; i < times.size(); ++i) {
-        if (!(times[i] > times[i - 1])) node.fail("times", "must be strictly increasing");
-      }
-      f = TimeFunction::tabulated(std::move(times), std::move(values));
-      break;
-    }
-    case TimeFunctionType::step:
-      f = TimeFunction::step(node.required<double>("value"),
-                             node.required<double>("time", Range::any(), "s"));
-      break;
-    case TimeFunctionType::smooth_step:
-      f = TimeFunction::smooth_step(node.required<double>("value"),
-                                    node.required<double>("time", Range::any(), "s"),
-                                    node.required<double>("duration", Range::positive(), "s"));
-      break;
-    case TimeFunctionType::expression: {
-      const std::string text = node.required<std::string>("value");
-      try {
-        f = TimeFunction::expression(text);
-      } catch (const InputError& e) {
-        node.fail("value", e.what());  // FILE:LINE: ....value: expression "...": column N: ...
-      }
-      break;
-    }
-  }
-  node.finish();
-  return f;
-}
-
 ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs) {
   ShellSection shell;
   shell.thickness = node.required<double>("thickness", Range::positive(), "m");
@@ -375,6 +313,15 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
 
 FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs) {
   FluidSection fluid;
+  fluid.model = node.choice("model", {"euler", "piston_theory"}, "euler") == "piston_theory"
+                    ? FluidModelType::piston_theory
+                    : FluidModelType::euler;
+  if (fluid.model == FluidModelType::piston_theory) {
+    for (const std::string_view key : {"boundaries", "mesh_motion", "analysis"})
+      if (node.has(key))
+        node.fail(key, "piston theory computes the loads from the shell's motion, without a fluid "
+                       "mesh; remove it (or use model: euler)");
+  }
   if (auto gas = node.optional_child("gas")) {
     fluid.gas.gamma = gas->optional<double>("gamma", 1.4, Range::greater_than(1));
     fluid.gas.gas_constant =
@@ -682,14 +629,18 @@ Case read_case(const YamlNode& root) {
     c.shell = read_shell(*node, c.group_references);
   }
   if (auto node = root.optional_child("fluid")) {
-    require_mesh(*node, c.meshes, "fluid");
     c.fluid = read_fluid(*node, c.group_references);
+    if (c.fluid->model == FluidModelType::euler) require_mesh(*node, c.meshes, "fluid");
   }
   if (auto node = root.optional_child("motion")) {
     require_mesh(*node, c.meshes, "fluid");
     c.motion = read_motion(*node, c.meshes, c.group_references);
   }
   if (auto node = root.optional_child("time")) c.time = read_time(*node);
+  if (auto node = root.optional_child("coupling")) {
+    c.coupling = detail::read_coupling(*node, c.meshes, c.group_references);
+    detail::check_coupled_case(c);
+  }
   if (c.shell && c.shell->analysis && c.shell->analysis->type == ShellAnalysisType::dynamic &&
       !(c.time && c.time->step > 0)) {
     throw_at(c.shell->analysis->where, "a dynamic analysis needs a 'time' section (end, step)");
@@ -720,13 +671,13 @@ Case read_case(const YamlNode& root) {
                "or remove 'mesh_motion'");
     }
   }
-  {
+  if (!c.coupling) {
     int solvers = (c.motion ? 1 : 0) + (c.shell && c.shell->analysis ? 1 : 0) +
                   (c.fluid && c.fluid->analysis ? 1 : 0);
     if (solvers > 1) {
       throw_at(c.motion ? c.motion->where : c.fluid->analysis->where,
-               "combining mesh motion, a shell analysis and a flow analysis needs the "
-               "fluid-structure coupling, which is not available yet; keep one of them");
+               "combining mesh motion, a shell analysis and a flow analysis is a coupled run: "
+               "add a 'coupling' section (docs/case-format.md), or keep one of them");
     }
   }
 
@@ -740,6 +691,75 @@ Case read_case(const YamlNode& root) {
 }
 
 }  // namespace
+
+namespace detail {
+
+std::string read_group(const YamlNode& node, std::string_view mesh,
+                       std::vector<GroupReference>& refs) {
+  std::string group = node.required<std::string>("group");
+  if (group.empty()) node.fail("group", "expected a physical group name, got an empty string");
+  refs.push_back({group, std::string(mesh), node.location("group")});
+  return group;
+}
+
+Vec3 unit_vector(const YamlNode& node, std::string_view key, const Vec3& v) {
+  const double n = v.norm();
+  if (!(n > 0.0)) node.fail(key, "must be a non-zero vector [x, y, z], got [0, 0, 0]");
+  return v / n;
+}
+
+TimeFunction read_time_function(const YamlNode& node) {
+  node.expect_map();
+  TimeFunction f = TimeFunction::constant(0.0);
+  switch (node.enumeration<TimeFunctionType>("type", kTimeFunctionNames)) {
+    case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
+    case TimeFunctionType::ramp:
+      f = TimeFunction::ramp(node.required<double>("value"),
+                             node.required<double>("duration", Range::positive(), "s"));
+      break;
+    case TimeFunctionType::sine:
+      f = TimeFunction::sine(node.required<double>("value"),
+                             node.required<double>("frequency", Range::positive(), "Hz"),
+                             node.optional<double>("phase", 0.0, Range::any(), "rad"));
+      break;
+    case TimeFunctionType::tabulated: {
+      std::vector<double> times, values;
+      for (const YamlNode& t : node.list("times")) times.push_back(t.as<double>());
+      for (const YamlNode& v : node.list("values")) values.push_back(v.as<double>());
+      if (times.empty() || times.size() != values.size()) {
+        node.fail("values", fmt::format("expected as many values as times (at least one), got {} "
+                                        "times and {} values", times.size(), values.size()));
+      }
+      for (std::size_t i = 1; i < times.size(); ++i) {
+        if (!(times[i] > times[i - 1])) node.fail("times", "must be strictly increasing");
+      }
+      f = TimeFunction::tabulated(std::move(times), std::move(values));
+      break;
+    }
+    case TimeFunctionType::step:
+      f = TimeFunction::step(node.required<double>("value"),
+                             node.required<double>("time", Range::any(), "s"));
+      break;
+    case TimeFunctionType::smooth_step:
+      f = TimeFunction::smooth_step(node.required<double>("value"),
+                                    node.required<double>("time", Range::any(), "s"),
+                                    node.required<double>("duration", Range::positive(), "s"));
+      break;
+    case TimeFunctionType::expression: {
+      const std::string text = node.required<std::string>("value");
+      try {
+        f = TimeFunction::expression(text);
+      } catch (const InputError& e) {
+        node.fail("value", e.what());  // FILE:LINE: ....value: expression "...": column N: ...
+      }
+      break;
+    }
+  }
+  node.finish();
+  return f;
+}
+
+}  // namespace detail
 
 const MeshSpec* MeshesSection::find(std::string_view key) const {
   if (key == "fluid") return fluid ? &*fluid : nullptr;

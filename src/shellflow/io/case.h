@@ -248,7 +248,14 @@ struct FluidAnalysis {
   SourceLocation where;
 };
 
+/// How the gas acts on the shell in a coupled run.
+enum class FluidModelType {
+  euler,          ///< the flow solver on the fluid mesh (Euler or Navier–Stokes by gas.viscosity)
+  piston_theory,  ///< first-order piston theory from the shell's motion (no fluid mesh)
+};
+
 struct FluidSection {
+  FluidModelType model = FluidModelType::euler;
   Gas gas;
   FreeStream free_stream;
   std::vector<FluidBoundary> boundaries;
@@ -291,6 +298,22 @@ struct MotionSection {
   MotionWeighting weighting = MotionWeighting::plain;
   /// The boundary motion when no shell solver drives it.
   std::optional<PanelModesSpec> prescribed;
+  SourceLocation where;
+};
+
+// ---- coupling ---------------------------------------------------------------------------------
+
+/// The coupled fluid–shell run (docs/coupling.md, docs/case-format.md "coupling").
+struct CouplingSection {
+  enum class Scheme { staggered, monolithic } scheme = Scheme::staggered;
+  int substeps = 0;  ///< fluid steps per shell step; 0 = auto (from the stable step and cfl)
+  enum class Predictor { none, linear } predictor = Predictor::linear;
+  enum class MeshVelocity { positions, interpolated } mesh_velocity = MeshVelocity::positions;
+  /// Absolute pressure on the shell's dry face [Pa]; absent: the free-stream pressure.
+  std::optional<TimeFunction> cavity_pressure;
+  double max_gap = 1e-6;    ///< [m] largest distance between the shell and the fluid wet boundary
+  std::string fluid_group;  ///< the fluid mesh's wet boundary (euler, mesh motion)
+  Vec3 wet_normal = Vec3::Zero();  ///< piston theory: from the shell into the flow (unit)
   SourceLocation where;
 };
 
@@ -359,6 +382,7 @@ struct Case {
   std::optional<FluidSection> fluid;
   std::optional<MotionSection> motion;
   std::optional<TimeSection> time;
+  std::optional<CouplingSection> coupling;
   std::vector<Probe> probes;
   OutputSection output;
   /// Every physical group the case names, in file order.

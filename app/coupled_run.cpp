@@ -1,0 +1,201 @@
+#include "coupled_run.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <optional>
+
+#include "commands.h"
+#include "field_writers.h"
+#include "shellflow/core/error.h"
+#include "shellflow/core/progress.h"
+#include "shellflow/io/mesh_output.h"
+#include "shellflow/io/probe_writer.h"
+#include "shellflow/io/pvd_writer.h"
+#include "shellflow/mesh/quality.h"
+#include "shellflow/setup/coupled_setup.h"
+
+namespace shellflow::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+/// The fluid mesh (and space mesh) of a coupled run without a flow: positions and mesh
+/// velocity only, and the mesh quality.
+class MeshWriter {
+ public:
+  MeshWriter(const setup::CoupledSystem& s, const io::CaseMeshes& meshes, const std::filesystem::path& outdir)
+      : s_(s), meshes_(meshes), outdir_(outdir), space_pvd_(outdir, "space") {
+    if (!s.flow->flow()) fluid_pvd_.emplace(outdir, "fluid");
+    q0_ = mesh::cell_qualities(*s.fluid_mesh);
+  }
+  /// Fluid mesh displacement and velocity in the case's node order (for probes and VTU).
+  std::vector<io::FieldView> update() {
+    const auto x = s_.flow->positions();
+    const auto w = s_.flow->mesh_velocity();
+    const std::size_t n = s_.new_index.size();
+    displacement_.resize(3 * n);
+    velocity_.resize(3 * n);
+    positions_.resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(s_.new_index[i]);
+      positions_[i] = x[k];
+      for (std::size_t d = 0; d < 3; ++d) {
+        displacement_[3 * i + d] = x[k][Eigen::Index(d)] - s_.fluid_mesh->nodes[k][Eigen::Index(d)];
+        velocity_[3 * i + d] = w[k][Eigen::Index(d)];
+      }
+    }
+    const auto& sm = dynamic_cast<const motion::SpaceMeshMover&>(s_.flow->mover()).space_mesh();
+    space_u_ = flatten(sm.displacement());
+    space_v_ = flatten(sm.velocity());
+    return {{"fluid", "mesh_velocity", 3, velocity_},
+            {"space", "displacement", 3, space_u_},
+            {"space", "velocity", 3, space_v_}};
+  }
+  /// Quality row: fluid min and mean mean-ratio, min ratio to the initial, inverted count,
+  /// space mesh min relative Jacobian.
+  std::vector<double> quality() const {
+    const auto q = mesh::cell_qualities(*s_.fluid_mesh, s_.flow->positions());
+    double min_q = q.empty() ? 0.0 : q[0], mean = 0.0, ratio = 1e300, inverted = 0;
+    for (std::size_t e = 0; e < q.size(); ++e) {
+      min_q = std::min(min_q, q[e]);
+      mean += q[e] / static_cast<double>(q.size());
+      ratio = std::min(ratio, q[e] / q0_[e]);
+      inverted += q[e] <= 0.0;
+    }
+    const auto& sm = dynamic_cast<const motion::SpaceMeshMover&>(s_.flow->mover()).space_mesh();
+    return {min_q, mean, ratio, inverted, sm.min_relative_jacobian()};
+  }
+  void write(long step, double t) {
+    if (fluid_pvd_) {
+      const std::string name = fmt::format("fluid_{:06}.vtu", step);
+      io::write_mesh_vtu(outdir_ / name, *meshes_.fluid,
+                         {{"displacement", 3, displacement_}, {"mesh_velocity", 3, velocity_}}, t, positions_);
+      fluid_pvd_->add(t, name);
+    }
+    const auto& sm = dynamic_cast<const motion::SpaceMeshMover&>(s_.flow->mover()).space_mesh();
+    const std::string name = fmt::format("space_{:06}.vtu", step);
+    io::write_mesh_vtu(outdir_ / name, *meshes_.space, {{"displacement", 3, space_u_}, {"velocity", 3, space_v_}},
+                       t, sm.current_positions());
+    space_pvd_.add(t, name);
+  }
+
+ private:
+  const setup::CoupledSystem& s_;
+  const io::CaseMeshes& meshes_;
+  std::filesystem::path outdir_;
+  std::optional<io::PvdWriter> fluid_pvd_;
+  io::PvdWriter space_pvd_;
+  std::vector<double> q0_, displacement_, velocity_, space_u_, space_v_;
+  std::vector<Vec3> positions_;
+};
+
+}  // namespace
+
+void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
+                 std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir,
+                 bool plot) {
+  const auto t_setup = Clock::now();
+  setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
+  spdlog::info("coupled run: shell {} nodes / {} load points, aerodynamics '{}'{}, {} scheme{}",
+               s.shell->num_nodes(), s.shell->load_points().size(), s.aerodynamics->name(),
+               s.flow && s.flow->flow() ? fmt::format(" ({} fluid nodes)", s.fluid_mesh->num_nodes()) : "",
+               s.driver->options().monolithic ? "monolithic" : "staggered",
+               s.driver->options().monolithic ? ""
+               : s.driver->options().predictor == coupling::LoadPredictor::linear ? " with the linear load predictor"
+                                                                                  : " without load predictor");
+
+  ShellWriter shell_writer(*s.shell, outdir, c.output.shell_stress);
+  std::optional<FluidWriter> fluid_writer;
+  if (s.flow && s.flow->flow()) fluid_writer.emplace(*meshes.fluid, s.new_index, outdir);
+  std::optional<MeshWriter> mesh_writer;
+  std::optional<io::ProbeWriter> quality_csv;
+  if (s.flow) {
+    mesh_writer.emplace(s, meshes, outdir);
+    quality_csv.emplace(outdir / "mesh_quality.csv",
+                        std::vector<std::string>{"fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
+                                                 "fluid_inverted", "space_min_relative_jacobian"});
+  }
+  io::ProbeWriter coupling_csv(outdir / "coupling.csv",
+                               {"newton_iterations", "substeps", "shell_force_x", "shell_force_y", "shell_force_z",
+                                "fluid_force_x", "fluid_force_y", "fluid_force_z", "force_balance"});
+  double setup_seconds = seconds_since(t_setup);
+
+  const shell::NewmarkSolver& solver = *s.solver;
+  auto record = [&](long step, bool write_fields) {
+    const double t = solver.time();
+    // Fresh views of every mesh this run moves; the initial ones of the others.
+    const bool fresh_fluid = fluid_writer || mesh_writer, fresh_space = mesh_writer.has_value();
+    std::vector<io::FieldView> fields;
+    for (const auto& f : initial_fields)
+      if (f.mesh != "shell" && !(f.mesh == "fluid" && fresh_fluid) && !(f.mesh == "space" && fresh_space))
+        fields.push_back(f);
+    for (const auto& v : shell_writer.update(solver.displacement(), &solver.velocity())) fields.push_back(v);
+    if (fluid_writer)
+      for (const auto& v : fluid_writer->update(*s.flow->flow())) fields.push_back(v);
+    if (mesh_writer)
+      for (const auto& v : mesh_writer->update())
+        if (!(fluid_writer && v.mesh == "fluid")) fields.push_back(v);
+    probes.record(t, fields);
+    if (quality_csv) quality_csv->append(t, mesh_writer->quality());
+    if (!write_fields) return;
+    shell_writer.write(step, t, solver.displacement());
+    if (fluid_writer) fluid_writer->write(step, *s.flow->flow());
+    if (mesh_writer) mesh_writer->write(step, t);
+  };
+  record(0, false);  // run_command wrote the initial frames
+
+  const double dt = c.time->step;
+  const auto steps = static_cast<long>(std::llround(c.time->end / dt));
+  Progress progress(0.0, c.time->end);
+  double shell_fluid_seconds = 0.0, output_seconds = 0.0;
+  long newton_total = 0, substeps_total = 0;
+  double worst_balance = 0.0;
+  long step = 0;
+  try {
+    for (step = 1; step <= steps; ++step) {
+      const auto t0 = Clock::now();
+      const coupling::CouplingStepReport r = s.driver->step(dt);
+      shell_fluid_seconds += seconds_since(t0);
+      newton_total += r.newton_iterations;
+      substeps_total += r.flow.substeps;
+      const Vec3 ff = r.fluid_force.value_or(Vec3::Constant(std::nan("")));
+      const double scale = std::max(r.shell_force.norm(), ff.allFinite() ? ff.norm() : 0.0);
+      const double balance = ff.allFinite() && scale > 0.0 ? (r.shell_force - ff).norm() / scale : 0.0;
+      worst_balance = std::max(worst_balance, balance);
+      coupling_csv.append(r.time, std::vector<double>{double(r.newton_iterations), double(r.flow.substeps),
+                                                      r.shell_force.x(), r.shell_force.y(), r.shell_force.z(),
+                                                      ff.x(), ff.y(), ff.z(), balance});
+      spdlog::debug("step {} t = {:.6g} s: {} Newton iterations, {} fluid sub-steps, shell force "
+                    "({:.4g}, {:.4g}, {:.4g}) N, force balance {:.2e}",
+                    step, r.time, r.newton_iterations, r.flow.substeps, r.shell_force.x(), r.shell_force.y(),
+                    r.shell_force.z(), balance);
+      const auto t1 = Clock::now();
+      record(step, step % c.output.every == 0 || step == steps);
+      output_seconds += seconds_since(t1);
+      progress.update(r.time, step);
+    }
+  } catch (const SolverError& e) {
+    progress.finish();
+    // The solvers keep their last valid states: write them before reporting.
+    record(step, true);
+    throw SolverError(fmt::format("{} (shell step {}); the last valid state (t = {:.6g} s) is in {}", e.what(),
+                                  step, solver.time(), outdir.string()));
+  }
+  progress.finish();
+  spdlog::info("coupled run: {} shell steps to t = {:.6g} s, {} Newton iterations, {} fluid sub-steps; "
+               "largest force imbalance {:.2e}; wall time: setup {:.2f} s, steps {:.2f} s, output {:.2f} s",
+               steps, solver.time(), newton_total, substeps_total, worst_balance, setup_seconds,
+               shell_fluid_seconds, output_seconds);
+  if (plot && !c.probes.empty())
+    make_plot("plot_flutter.py", {(outdir / "probes.csv").string(), "-o", outdir.string()});
+  if (plot && quality_csv)
+    make_plot("plot_probes.py", {(outdir / "mesh_quality.csv").string(), "-o", (outdir / "mesh_quality.png").string()});
+}
+
+}  // namespace shellflow::app

@@ -1,0 +1,60 @@
+#pragma once
+// The aerodynamic load models behind one interface (coupling.md): what the partitioned
+// driver asks of "the flow" in a shell step. Two models:
+//   - FlowModel  (flow.h): the Euler/Navier–Stokes flow on the fluid mesh, moved through the
+//     space mesh, sub-cycled inside the shell step (also without a flow: the mesh-motion tests);
+//   - PistonLoads (below): first-order piston theory from the shell's own motion.
+#include <optional>
+#include <span>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "shellflow/coupling/piston_theory.h"
+#include "shellflow/coupling/shell_motion.h"
+
+namespace shellflow::coupling {
+
+/// What one shell step cost the flow.
+struct FlowStepReport {
+  int substeps = 0;          ///< fluid (or fluid-mesh) steps in the shell step
+  double stable_substeps = 0;  ///< the sub-steps stability asked for (auto: before rounding up)
+};
+
+class AerodynamicModel {
+ public:
+  virtual ~AerodynamicModel() = default;
+  virtual std::string name() const = 0;
+  /// Advances the flow from its time to `t_end`, the end of the shell step whose motion
+  /// `motion` holds (its window). Throws SolverError naming the time on failure; the model
+  /// then keeps its last valid state.
+  virtual FlowStepReport advance(const ShellStepMotion& motion, double t_end) = 0;
+  /// Pressure rise over the reference pressure at every shell load point, at the current
+  /// time; (u, v) is the shell state at that time.
+  virtual void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
+                             std::span<double> dp) = 0;
+  /// Per load point: +1 where the shell normal (like V) points into the flow.
+  virtual std::span<const double> sign() const = 0;
+  /// Force of the gas (pressure minus the reference pressure) on the wet boundary from the
+  /// fluid side, when the model has a fluid mesh.
+  virtual std::optional<Vec3> fluid_side_force() const { return std::nullopt; }
+};
+
+/// Piston theory as an aerodynamic model: nothing to advance; the loads follow from the
+/// shell state.
+class PistonLoads final : public AerodynamicModel {
+ public:
+  PistonLoads(const shell::ShellModel& model, PistonTheoryFlow flow) : theory_(model, flow) {}
+  std::string name() const override { return "piston_theory"; }
+  FlowStepReport advance(const ShellStepMotion&, double) override { return {}; }
+  void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) override {
+    theory_.pressure_rise(u, v, dp);
+  }
+  std::span<const double> sign() const override { return theory_.sign(); }
+  const PistonTheory& theory() const { return theory_; }
+
+ private:
+  PistonTheory theory_;
+};
+
+}  // namespace shellflow::coupling

@@ -1,0 +1,113 @@
+#include "shellflow/coupling/flow.h"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+#include "shellflow/mesh/quality.h"
+
+namespace shellflow::coupling {
+
+FlowModel::FlowModel(const mesh::Mesh& fluid_mesh, std::unique_ptr<fluid::FluidModel> flow,
+                     std::unique_ptr<motion::FluidMeshMover> mover, ShellStepMotion& motion,
+                     WallNodeMap wall, LoadPointMap loads, FlowModelOptions options)
+    : mesh_(fluid_mesh),
+      flow_(std::move(flow)),
+      mover_(std::move(mover)),
+      wall_(std::move(wall)),
+      loads_(std::move(loads)),
+      faces_(oriented_wet_faces(fluid_mesh, wall_.group)),
+      options_(options),
+      x_(fluid_mesh.nodes),
+      w_(fluid_mesh.nodes.size(), Vec3::Zero()) {
+  wall_handle_ = motion.register_shell_points(wall_.points);
+  wall_displacement_.resize(wall_.nodes.size());
+  wall_velocity_.resize(wall_.nodes.size());
+  node_pressure_.resize(loads_.fluid_nodes.size());
+  if (flow_) time_ = flow_->time();
+}
+
+FlowStepReport FlowModel::substeps_for(double dt) {
+  FlowStepReport r;
+  if (!flow_) {
+    if (options_.substeps <= 0)
+      throw InputError("coupling.substeps: a run without a flow has no stable step to size the "
+                       "sub-steps by; give coupling.substeps as a number");
+    r.substeps = options_.substeps;
+    return r;
+  }
+  const double stable = flow_->stable_dt(options_.cfl);
+  r.stable_substeps = dt / stable;
+  const int needed = static_cast<int>(std::ceil(r.stable_substeps * (1.0 - 1e-12)));
+  if (options_.substeps <= 0) {
+    r.substeps = std::max(1, needed);
+  } else {
+    if (options_.substeps < needed)
+      throw SolverError(fmt::format(
+          "t = {:.6g} s: coupling.substeps = {} fluid steps per shell step is unstable here: the "
+          "stable fluid step at CFL {} is {:.4g} s, so the shell step of {:.4g} s needs at least "
+          "{} sub-steps; set coupling.substeps to {} or more (or auto)",
+          time_, options_.substeps, options_.cfl, stable, dt, needed, needed));
+    r.substeps = options_.substeps;
+  }
+  return r;
+}
+
+FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
+  const double t0 = time_;
+  const double dt = t_end - t0;
+  FlowStepReport report = substeps_for(dt);
+  const int n = report.substeps;
+  for (int m = 1; m <= n; ++m) {
+    const double t = m == n ? t_end : t0 + dt * (static_cast<double>(m) / n);
+    mover_->update(t, x_, w_);
+    if (flow_) {
+      motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
+      flow_->set_wall_velocity(wall_.group, wall_velocity_);
+      flow_->step(t - flow_->time(), x_,
+                  options_.interpolated_mesh_velocity ? std::span<const Vec3>(w_) : std::span<const Vec3>{});
+    } else {
+      const auto q = mesh::cell_qualities(mesh_, x_);
+      for (std::size_t e = 0; e < q.size(); ++e)
+        if (!(q[e] > 0.0)) {
+          const auto v = mesh_.cells.element(Index(e));
+          const Vec3 c = 0.25 * (x_[std::size_t(v[0])] + x_[std::size_t(v[1])] + x_[std::size_t(v[2])] +
+                                 x_[std::size_t(v[3])]);
+          throw SolverError(fmt::format(
+              "t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
+              "the shell moves too far for this mesh: refine the fluid or space mesh near the "
+              "panel or change the motion's IDW exponents",
+              t, e, c.x(), c.y(), c.z()));
+        }
+    }
+    time_ = t;
+  }
+  return report;
+}
+
+void FlowModel::pressure_rise(const Eigen::VectorXd&, const Eigen::VectorXd&, std::span<double> dp) {
+  if (!flow_) {
+    std::fill(dp.begin(), dp.end(), 0.0);
+    return;
+  }
+  flow_->pressures(loads_.fluid_nodes, node_pressure_);
+  for (double& p : node_pressure_) p -= options_.reference_pressure;
+  transfer_to_load_points(loads_, node_pressure_, dp);
+}
+
+std::optional<Vec3> FlowModel::fluid_side_force() const {
+  if (!flow_) return std::nullopt;
+  const auto x = flow_->positions();
+  Vec3 force = Vec3::Zero();
+  for (const WetFace& f : faces_) {
+    const Vec3& a = x[std::size_t(f.nodes[0])];
+    const Vec3 area = 0.5 * (x[std::size_t(f.nodes[1])] - a).cross(x[std::size_t(f.nodes[2])] - a);
+    double p = 0.0;
+    for (const Index i : f.nodes) p += flow_->pressure(i) - options_.reference_pressure;
+    force += (p / 3.0) * area;
+  }
+  return force;
+}
+
+}  // namespace shellflow::coupling

@@ -1,0 +1,76 @@
+#pragma once
+// The flow as an aerodynamic model of the partitioned driver (coupling.md, time stepping,
+// step 3): in every shell step [t_i, t_i+1], n_sub fluid steps; in each, the shell motion of
+// the Hermite window moves the space mesh and through it the fluid nodes, the wall velocity
+// of the slip condition (paper eq. 29) is the Hermite derivative at the wet nodes, and one
+// explicit fluid step follows. The last sub-step lands exactly on t_i+1.
+//
+// Without a fluid model (a case with mesh motion but no flow: the paper's mesh-motion
+// tests) only the fluid mesh is moved, with the same sub-steps, and an inverted element
+// stops the run.
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "shellflow/coupling/aerodynamics.h"
+#include "shellflow/coupling/interface_maps.h"
+#include "shellflow/fluid/fluid_model.h"
+#include "shellflow/mesh/mesh.h"
+#include "shellflow/motion/mesh_mover.h"
+
+namespace shellflow::coupling {
+
+struct FlowModelOptions {
+  int substeps = 0;   ///< fluid steps per shell step; 0: auto, from the stable step
+  double cfl = 0.5;   ///< of the auto rule n_sub = ceil(dt_s / (cfl dt_stable))
+  /// Mesh velocity of the fluid step: false (default) w = (x^m - x^{m-1}) / dt_f, which
+  /// keeps a uniform flow exactly uniform; true: the interpolated velocity of eq. 32.
+  bool interpolated_mesh_velocity = false;
+  double reference_pressure = 0.0;  ///< p_ref subtracted from the loads (the free-stream pressure)
+};
+
+class FlowModel final : public AerodynamicModel {
+ public:
+  /// `fluid_mesh`: the mesh the flow and the mover were built on (renumbered, wall snapped);
+  /// `flow`: null for a mesh-motion-only run. The model keeps references to mesh, motion
+  /// and mover.
+  FlowModel(const mesh::Mesh& fluid_mesh, std::unique_ptr<fluid::FluidModel> flow,
+            std::unique_ptr<motion::FluidMeshMover> mover, ShellStepMotion& motion,
+            WallNodeMap wall, LoadPointMap loads, FlowModelOptions options);
+
+  std::string name() const override { return flow_ ? "euler" : "mesh_motion"; }
+  FlowStepReport advance(const ShellStepMotion& motion, double t_end) override;
+  void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) override;
+  std::span<const double> sign() const override { return loads_.sign; }
+  std::optional<Vec3> fluid_side_force() const override;
+
+  /// Sub-steps the next shell step of length dt needs (auto) or gets (fixed); throws
+  /// SolverError naming the time and the n_sub needed when a fixed count is too small.
+  FlowStepReport substeps_for(double dt);
+
+  double time() const { return time_; }
+  const fluid::FluidModel* flow() const { return flow_.get(); }
+  fluid::FluidModel* flow() { return flow_.get(); }
+  const motion::FluidMeshMover& mover() const { return *mover_; }
+  std::span<const Vec3> positions() const { return x_; }
+  std::span<const Vec3> mesh_velocity() const { return w_; }
+  const mesh::Mesh& mesh() const { return mesh_; }
+  const WallNodeMap& wall_map() const { return wall_; }
+  const LoadPointMap& load_map() const { return loads_; }
+
+ private:
+  const mesh::Mesh& mesh_;
+  std::unique_ptr<fluid::FluidModel> flow_;
+  std::unique_ptr<motion::FluidMeshMover> mover_;
+  WallNodeMap wall_;
+  LoadPointMap loads_;
+  std::vector<WetFace> faces_;
+  FlowModelOptions options_;
+  int wall_handle_ = -1;
+  double time_ = 0.0;
+  std::vector<Vec3> x_, w_, wall_displacement_, wall_velocity_;
+  std::vector<double> node_pressure_;
+};
+
+}  // namespace shellflow::coupling

@@ -1,0 +1,110 @@
+#include "shellflow/coupling/partitioned_solver.h"
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+#include "shellflow/fem/reference_element.h"
+
+namespace shellflow::coupling {
+
+PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSolver& shell,
+                                     AerodynamicModel& flow, ShellStepMotion& motion,
+                                     PartitionedOptions options)
+    : model_(model), shell_(shell), flow_(flow), motion_(motion), options_(options) {
+  const std::size_t n = model.load_points().size();
+  current_.assign(n, 0.0);
+  applied_.assign(n, 0.0);
+  point_pressure_.assign(n, 0.0);
+  if (flow.sign().size() != n)
+    throw Error(fmt::format("coupling: the aerodynamic model has {} load points, the shell {}",
+                            flow.sign().size(), n));
+  // Load-point geometry for the force balance in the current configuration.
+  const mesh::Mesh& m = model.mesh();
+  const fem::ReferenceElement& ref = fem::reference_element(static_cast<int>(m.cells.type));
+  n_ = ref.num_nodes;
+  const auto nn = static_cast<std::size_t>(n_);
+  dphi_.resize(2 * nn * n);
+  plane_weight_.resize(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto& lp = model.load_points()[k];
+    const double xi[2] = {lp.point.xi.x(), lp.point.xi.y()};
+    ref.eval_gradients(xi, dphi_.data() + 2 * nn * k);
+    Vec3 X1 = Vec3::Zero(), X2 = Vec3::Zero();
+    const auto conn = m.cells.element(lp.point.element);
+    for (std::size_t a = 0; a < nn; ++a) {
+      X1 += dphi_[2 * nn * k + 2 * a] * m.nodes[std::size_t(conn[a])];
+      X2 += dphi_[2 * nn * k + 2 * a + 1] * m.nodes[std::size_t(conn[a])];
+    }
+    plane_weight_[k] = lp.weight / X1.cross(X2).norm();
+  }
+  motion_.set_state(shell.time(), shell.displacement(), shell.velocity());
+  flow_.pressure_rise(shell.displacement(), shell.velocity(), current_);
+  if (!options_.monolithic) {
+    // The initial acceleration must balance the loads of t0 too: set them, then let the
+    // shell recompute it (its state is otherwise kept).
+    apply_loads();
+    const Eigen::VectorXd u = shell.displacement(), v = shell.velocity();
+    shell.set_initial_state(u, v);
+  }
+}
+
+void PartitionedSolver::apply_loads() {
+  const auto sign = flow_.sign();
+  const bool predict = options_.predictor == LoadPredictor::linear && has_previous_;
+  for (std::size_t k = 0; k < current_.size(); ++k) {
+    applied_[k] = predict ? 2.0 * current_[k] - previous_[k] : current_[k];
+    // The gas pushes the wetted face back: along the shell normal N_k (like V) that is
+    // -sign_k dp_k (sign_k N_k points into the flow).
+    point_pressure_[k] = -sign[k] * applied_[k];
+  }
+  model_.set_point_pressure(point_pressure_);
+}
+
+Vec3 PartitionedSolver::shell_side_force(std::span<const double> dp) const {
+  const auto sign = flow_.sign();
+  const auto& points = model_.load_points();
+  const mesh::Mesh& m = model_.mesh();
+  const Eigen::VectorXd& u = shell_.displacement();
+  const auto nn = static_cast<std::size_t>(n_);
+  Vec3 f = Vec3::Zero();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    Vec3 x1 = Vec3::Zero(), x2 = Vec3::Zero();
+    const auto conn = m.cells.element(points[k].point.element);
+    for (std::size_t a = 0; a < nn; ++a) {
+      const auto j = std::size_t(conn[a]);
+      const Vec3 x = m.nodes[j] + u.segment<3>(shell::dofs_per_node * Eigen::Index(j));
+      x1 += dphi_[2 * nn * k + 2 * a] * x;
+      x2 += dphi_[2 * nn * k + 2 * a + 1] * x;
+    }
+    f += (-sign[k] * dp[k] * plane_weight_[k]) * x1.cross(x2);
+  }
+  return f;
+}
+
+CouplingStepReport PartitionedSolver::step(double dt) {
+  CouplingStepReport report;
+  const shell::NewmarkState start = shell_.state();
+  std::vector<double> next(current_.size());
+  for (int k = 1;; ++k) {
+    if (!options_.monolithic) apply_loads();
+    report.newton_iterations += shell_.advance(dt);
+    motion_.set_window(start.time, shell_.time() - start.time, start.u, start.v, shell_.displacement(),
+                       shell_.velocity());
+    report.flow = flow_.advance(motion_, shell_.time());
+    flow_.pressure_rise(shell_.displacement(), shell_.velocity(), next);
+    report.coupling_iterations = k;
+    if (k >= options_.max_iterations) break;
+    // An implicit variant would test convergence of `next` against the loads applied, relax
+    // (acceleration), restore both solvers to `start` and iterate.
+    throw Error("coupling: implicit iterations (max_iterations > 1) are not implemented yet");
+  }
+  previous_.swap(current_);
+  current_.swap(next);
+  has_previous_ = true;
+  report.time = shell_.time();
+  report.shell_force = shell_side_force(current_);
+  report.fluid_force = flow_.fluid_side_force();
+  return report;
+}
+
+}  // namespace shellflow::coupling

@@ -1,0 +1,37 @@
+#pragma once
+// Case file -> the coupled fluid–shell system (docs/coupling.md): the shell model and its
+// Newmark solver, the aerodynamic model (the flow on its fluid mesh moved through the space
+// mesh, piston theory, or only the fluid mesh for the mesh-motion tests), the interface
+// maps, and the partitioned driver over them. Built in the order the maps need: the fluid
+// wall nodes are snapped onto the shell before the flow and the mover are built.
+#include <memory>
+#include <vector>
+
+#include "shellflow/coupling/flow.h"
+#include "shellflow/coupling/partitioned_solver.h"
+#include "shellflow/coupling/piston_theory.h"
+#include "shellflow/io/case.h"
+#include "shellflow/io/case_meshes.h"
+#include "shellflow/shell/newmark_solver.h"
+
+namespace shellflow::setup {
+
+struct CoupledSystem {
+  std::unique_ptr<shell::ShellModel> shell;
+  std::unique_ptr<shell::NewmarkSolver> solver;
+  std::unique_ptr<mesh::Mesh> fluid_mesh;  ///< renumbered, wall snapped (null: piston theory)
+  std::vector<Index> new_index;            ///< case fluid node -> solver node
+  std::unique_ptr<coupling::ShellStepMotion> motion;
+  std::unique_ptr<coupling::AerodynamicModel> aerodynamics;
+  coupling::FlowModel* flow = nullptr;     ///< the aerodynamic model when it is a FlowModel
+  coupling::PistonLoads* piston = nullptr; ///< ... when it is piston theory
+  shell::SparseMatrix piston_stiffness, piston_damping;  ///< monolithic scheme
+  std::unique_ptr<coupling::PartitionedSolver> driver;
+  double reference_pressure = 0.0;  ///< p_ref of the exchanged pressure rise (free stream)
+};
+
+/// Builds everything and sets the initial state (shell at rest, flow at the free stream).
+/// Throws InputError (maps, gaps, orientation, groups) with the case file's context.
+CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes);
+
+}  // namespace shellflow::setup

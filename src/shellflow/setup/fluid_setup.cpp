@@ -1,0 +1,91 @@
+#include "shellflow/setup/fluid_setup.h"
+
+#include <cmath>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::setup {
+namespace {
+
+fluid::BoundaryKind kind_of(const io::FluidBoundary& b) {
+  switch (b.type) {
+    case io::FluidBoundaryType::supersonic_inflow: return fluid::BoundaryKind::supersonic_inflow;
+    case io::FluidBoundaryType::supersonic_outflow: return fluid::BoundaryKind::supersonic_outflow;
+    case io::FluidBoundaryType::far_field: return fluid::BoundaryKind::far_field;
+    case io::FluidBoundaryType::slip_wall: return fluid::BoundaryKind::slip_wall;
+    case io::FluidBoundaryType::symmetry: return fluid::BoundaryKind::symmetry;
+    case io::FluidBoundaryType::no_slip_wall: return fluid::BoundaryKind::no_slip_wall;
+  }
+  throw_at(b.where, "unknown boundary type");
+}
+
+fluid::Viscosity viscosity_of(const io::Viscosity& v) {
+  fluid::Viscosity mu;
+  mu.law = v.law == io::ViscosityLaw::constant     ? fluid::ViscosityLaw::constant
+           : v.law == io::ViscosityLaw::sutherland ? fluid::ViscosityLaw::sutherland
+                                                   : fluid::ViscosityLaw::none;
+  mu.mu_ref = v.mu_ref;
+  mu.t_ref = v.t_ref;
+  mu.sutherland = v.sutherland;
+  mu.prandtl = v.prandtl;
+  return mu;
+}
+
+}  // namespace
+
+fluid::Primitive primitive(const io::GasState& g) { return {g.density, g.velocity, g.pressure}; }
+
+fluid::Primitive primitive(const io::SpaceTimeState& s, const Vec3& X, double t) {
+  return {s.density(X, t), Vec3(s.velocity[0](X, t), s.velocity[1](X, t), s.velocity[2](X, t)),
+          s.pressure(X, t)};
+}
+
+fluid::FluidOptions fluid_options(const io::FluidSection& section) {
+  fluid::FluidOptions options;
+  options.gas = fluid::IdealGas(section.gas.gamma, section.gas.gas_constant,
+                                viscosity_of(section.gas.viscosity));
+  if (section.analysis) {
+    options.q_dif = section.analysis->q_dif;
+    options.consistent_mass_iterations = section.analysis->consistent_mass_iterations;
+  }
+  return options;
+}
+
+fluid::Primitive free_stream(const io::FluidSection& section) {
+  const double sound = std::sqrt(section.gas.gamma * section.free_stream.pressure /
+                                 section.free_stream.density);
+  return {section.free_stream.density, section.free_stream.mach * sound * section.free_stream.direction,
+          section.free_stream.pressure};
+}
+
+std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection& section,
+                                                          const std::vector<Vec3>* mesh_velocity) {
+  const fluid::Primitive inf = free_stream(section);
+  std::vector<fluid::BoundaryCondition> conditions;
+  for (const io::FluidBoundary& b : section.boundaries) {
+    fluid::BoundaryCondition& bc = conditions.emplace_back(b.group, kind_of(b), inf);
+    if (b.state) {
+      const io::SpaceTimeState* state = &*b.state;
+      bc.state = primitive(*state, Vec3::Zero(), 0.0);
+      bc.state_at = [state](const Vec3& x, double t) { return primitive(*state, x, t); };
+    }
+    if (b.type == io::FluidBoundaryType::no_slip_wall) {
+      bc.wall_temperature = b.wall_temperature;
+      if (mesh_velocity) {
+        bc.wall_velocity = [mesh_velocity](Index node, const Vec3&, double) {
+          return (*mesh_velocity)[static_cast<std::size_t>(node)];
+        };
+      } else if (b.wall_velocity != Vec3::Zero()) {
+        bc.wall_velocity = [v = b.wall_velocity](Index, const Vec3&, double) { return v; };
+      }
+    }
+    if (mesh_velocity && b.type == io::FluidBoundaryType::slip_wall) {
+      bc.wall_velocity = [mesh_velocity](Index node, const Vec3&, double) {
+        return (*mesh_velocity)[static_cast<std::size_t>(node)];
+      };
+    }
+  }
+  return conditions;
+}
+
+}  // namespace shellflow::setup

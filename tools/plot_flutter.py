@@ -1,0 +1,102 @@
+#!/usr/bin/env python3
+"""Flutter plots of a coupled run's probes.csv: the panel displacement probes (columns
+named w_*) against time, like Figure 9 of Fernandes et al. (2014), and |w| on a log axis
+with the growth rate fitted to the envelope of the extrema.
+
+usage: plot_flutter.py OUTDIR/probes.csv [-o OUTDIR] [--start SECONDS]
+writes OUTDIR/flutter.png and OUTDIR/flutter_growth.png
+"""
+import argparse
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def extrema(t, w):
+    """Extrema of w refined by a parabola through the sample and its neighbours."""
+    out = []
+    for i in range(1, len(w) - 1):
+        if not ((w[i] > w[i - 1] and w[i] >= w[i + 1]) or (w[i] < w[i - 1] and w[i] <= w[i + 1])):
+            continue
+        h0, h1 = t[i] - t[i - 1], t[i + 1] - t[i]
+        d0, d1 = (w[i] - w[i - 1]) / h0, (w[i + 1] - w[i]) / h1
+        a = (d1 - d0) / (h0 + h1)
+        b = d0 + a * h0
+        tp, wp = t[i], w[i]
+        if a != 0.0 and abs(-b / (2 * a)) <= max(h0, h1):
+            s = -b / (2 * a)
+            tp, wp = t[i] + s, w[i] + b * s + a * s * s
+        if wp != 0.0:
+            out.append((tp, wp))
+    return out
+
+
+def fit_growth(peaks):
+    n = len(peaks)
+    if n < 3:
+        return None
+    xs = [p[0] for p in peaks]
+    ys = [math.log(abs(p[1])) for p in peaks]
+    mx, my = sum(xs) / n, sum(ys) / n
+    sxx = sum((x - mx) ** 2 for x in xs)
+    sigma = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    c = my - sigma * mx
+    half = (xs[-1] - xs[0]) / (n - 1)
+    return sigma, c, 1.0 / (2.0 * half)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("csv")
+    parser.add_argument("-o", "--outdir")
+    parser.add_argument("--start", type=float, default=0.01,
+                        help="fit the growth from this time on (default 0.01 s: after the start-up)")
+    args = parser.parse_args()
+    outdir = args.outdir or os.path.dirname(args.csv) or "."
+    with open(args.csv, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows or rows[0][0] != "time":
+        print(f"plot_flutter: {args.csv}: not a probes file (first column must be 'time')", file=sys.stderr)
+        return 1
+    header, data = rows[0], rows[1:]
+    names = [h for h in header if h.startswith("w_")] or header[1:2]
+    t = [float(r[0]) for r in data]
+    fig, ax = plt.subplots(figsize=(8, 3.5))
+    fig2, ax2 = plt.subplots(figsize=(8, 3.5))
+    for name in names:
+        w = [float(r[header.index(name)]) for r in data]
+        ax.plot(t, [100 * v for v in w], label=name)
+        ax2.semilogy(t, [abs(v) for v in w], lw=0.6, label=f"|{name}|")
+        peaks = [p for p in extrema(t, w) if p[0] >= args.start]
+        fit = fit_growth(peaks)
+        if fit:
+            sigma, c, freq = fit
+            ax2.semilogy([p[0] for p in peaks], [abs(p[1]) for p in peaks], "o", ms=3)
+            ax2.semilogy([peaks[0][0], peaks[-1][0]], [math.exp(c + sigma * peaks[0][0]),
+                         math.exp(c + sigma * peaks[-1][0])], "--",
+                         label=f"{name}: growth {sigma:.2f} 1/s, {freq:.1f} Hz")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("w [cm]")
+    ax.grid(True, alpha=0.3)
+    ax.legend()
+    ax.set_title("panel displacement")
+    fig.tight_layout()
+    fig.savefig(os.path.join(outdir, "flutter.png"), dpi=120)
+    ax2.set_xlabel("t [s]")
+    ax2.set_ylabel("|w| [m]")
+    ax2.grid(True, which="both", alpha=0.3)
+    ax2.legend(fontsize=8)
+    ax2.set_title("envelope and fitted growth rate")
+    fig2.tight_layout()
+    fig2.savefig(os.path.join(outdir, "flutter_growth.png"), dpi=120)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
