@@ -9,8 +9,8 @@
 
 #include "commands.h"
 #include "field_writers.h"
+#include "time_loop.h"
 #include "shellflow/core/error.h"
-#include "shellflow/core/progress.h"
 #include "shellflow/io/mesh_output.h"
 #include "shellflow/io/probe_writer.h"
 #include "shellflow/io/pvd_writer.h"
@@ -152,46 +152,48 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
 
   const double dt = c.time->step;
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
-  Progress progress(0.0, c.time->end);
-  double shell_fluid_seconds = 0.0, output_seconds = 0.0;
+  double steps_seconds = 0.0, output_seconds = 0.0, shell_seconds = 0.0, mesh_seconds = 0.0, flow_seconds = 0.0,
+         transfer_seconds = 0.0;
   long newton_total = 0, substeps_total = 0;
   double worst_balance = 0.0;
-  long step = 0;
-  try {
-    for (step = 1; step <= steps; ++step) {
-      const auto t0 = Clock::now();
-      const coupling::CouplingStepReport r = s.driver->step(dt);
-      shell_fluid_seconds += seconds_since(t0);
-      newton_total += r.newton_iterations;
-      substeps_total += r.flow.substeps;
-      const Vec3 ff = r.fluid_force.value_or(Vec3::Constant(std::nan("")));
-      const double scale = std::max(r.shell_force.norm(), ff.allFinite() ? ff.norm() : 0.0);
-      const double balance = ff.allFinite() && scale > 0.0 ? (r.shell_force - ff).norm() / scale : 0.0;
-      worst_balance = std::max(worst_balance, balance);
-      coupling_csv.append(r.time, std::vector<double>{double(r.newton_iterations), double(r.flow.substeps),
-                                                      r.shell_force.x(), r.shell_force.y(), r.shell_force.z(),
-                                                      ff.x(), ff.y(), ff.z(), balance});
-      spdlog::debug("step {} t = {:.6g} s: {} Newton iterations, {} fluid sub-steps, shell force "
-                    "({:.4g}, {:.4g}, {:.4g}) N, force balance {:.2e}",
-                    step, r.time, r.newton_iterations, r.flow.substeps, r.shell_force.x(), r.shell_force.y(),
-                    r.shell_force.z(), balance);
-      const auto t1 = Clock::now();
-      record(step, step % c.output.every == 0 || step == steps);
-      output_seconds += seconds_since(t1);
-      progress.update(r.time, step);
-    }
-  } catch (const SolverError& e) {
-    progress.finish();
-    // The solvers keep their last valid states: write them before reporting.
-    record(step, true);
-    throw SolverError(fmt::format("{} (shell step {}); the last valid state (t = {:.6g} s) is in {}", e.what(),
-                                  step, solver.time(), outdir.string()));
-  }
-  progress.finish();
+  run_time_loop(
+      {steps, c.output.every, c.time->end, outdir},
+      [&](long step) {
+        const auto t0 = Clock::now();
+        const coupling::CouplingStepReport r = s.driver->step(dt);
+        steps_seconds += seconds_since(t0);
+        shell_seconds += r.shell_seconds;
+        mesh_seconds += r.flow.mesh_seconds;
+        flow_seconds += r.flow.flow_seconds;
+        transfer_seconds += r.transfer_seconds;
+        newton_total += r.newton_iterations;
+        substeps_total += r.flow.substeps;
+        const Vec3 ff = r.fluid_force.value_or(Vec3::Constant(std::nan("")));
+        const double scale = std::max(r.shell_force.norm(), ff.allFinite() ? ff.norm() : 0.0);
+        const double balance = ff.allFinite() && scale > 0.0 ? (r.shell_force - ff).norm() / scale : 0.0;
+        worst_balance = std::max(worst_balance, balance);
+        coupling_csv.append(r.time, std::vector<double>{double(r.newton_iterations), double(r.flow.substeps),
+                                                        r.shell_force.x(), r.shell_force.y(), r.shell_force.z(),
+                                                        ff.x(), ff.y(), ff.z(), balance});
+        spdlog::debug("step {} t = {:.6g} s: {} Newton iterations, {} fluid sub-steps, shell force "
+                      "({:.4g}, {:.4g}, {:.4g}) N, force balance {:.2e}",
+                      step, r.time, r.newton_iterations, r.flow.substeps, r.shell_force.x(), r.shell_force.y(),
+                      r.shell_force.z(), balance);
+        return r.time;
+      },
+      [&](long step, bool fields) {
+        const auto t1 = Clock::now();
+        record(step, fields);
+        output_seconds += seconds_since(t1);
+      },
+      [&] { return solver.time(); });
   spdlog::info("coupled run: {} shell steps to t = {:.6g} s, {} Newton iterations, {} fluid sub-steps; "
-               "largest force imbalance {:.2e}; wall time: setup {:.2f} s, steps {:.2f} s, output {:.2f} s",
-               steps, solver.time(), newton_total, substeps_total, worst_balance, setup_seconds,
-               shell_fluid_seconds, output_seconds);
+               "largest force imbalance {:.2e}",
+               steps, solver.time(), newton_total, substeps_total, worst_balance);
+  spdlog::info("wall time {:.2f} s: setup {:.2f} s, shell {:.2f} s, fluid mesh motion {:.2f} s, flow {:.2f} s, "
+               "load transfer {:.2f} s, output {:.2f} s",
+               setup_seconds + steps_seconds + output_seconds, setup_seconds, shell_seconds, mesh_seconds,
+               flow_seconds, transfer_seconds, output_seconds);
   if (plot && !c.probes.empty())
     make_plot("plot_flutter.py", {(outdir / "probes.csv").string(), "-o", outdir.string()});
   if (plot && quality_csv)

@@ -1,8 +1,8 @@
 // shellflow: thin elastic shells in compressible gas flow.
 //
-//   shellflow mesh  cases/panel_flutter/panel_flutter.yaml [-o OUTDIR] [--json]
-//   shellflow check cases/panel_flutter/panel_flutter.yaml
-//   shellflow run   cases/panel_flutter/panel_flutter.yaml [-o OUTDIR]
+//   shellflow mesh  cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR] [--json]
+//   shellflow check cases/panel_flutter/clamped_clamped.yaml
+//   shellflow run   cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR]
 //
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
 // exit code is 1 (2 for a bad command line).
@@ -44,11 +44,13 @@ int main(int argc, char** argv) {
   auto add_output = [&](CLI::App* sub) {
     sub->add_option("-o,--output", options.output_dir,
                     "Output directory (default: the case's output.directory, else out/<name>)");
-    sub->add_flag("!--no-plot", options.plot, "Do not make the PNG plot at the end");
+    sub->add_flag("!--no-plot", options.plot, "Do not make the PNG plots at the end");
   };
 
-  auto* run = cli.add_subcommand("run", "Run a case: mesh it, integrate in time, write .vtu/.pvd "
-                                        "fields, probes.csv and a plot of the probes");
+  auto* run = cli.add_subcommand(
+      "run", "Run a case: mesh it, integrate in time (shell, flow, mesh motion, or all coupled "
+             "with a 'coupling' section: panel flutter), write .vtu/.pvd fields, probes.csv and "
+             "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png)");
   add_case(run);
   add_output(run);
   auto* mesh = cli.add_subcommand(

@@ -1,6 +1,7 @@
 #include "shell_run.h"
 
 #include "field_writers.h"
+#include "time_loop.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -112,21 +113,19 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   record(0, 0.0, solver.displacement(), &solver.velocity(), true);
   const double dt = c.time->step;
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
-  Progress progress(0.0, c.time->end);
-  for (long step = 1; step <= steps; ++step) {
-    try {
-      solver.advance(dt);
-    } catch (const SolverError& e) {
-      // The solver keeps the last converged state: write it before reporting.
-      record(step, solver.time(), solver.displacement(), &solver.velocity(), true);
-      throw SolverError(fmt::format("{}; the last converged state (t = {:.6g} s) is in {}",
-                                    e.what(), solver.time(), outdir.string()));
-    }
-    record(step, solver.time(), solver.displacement(), &solver.velocity(),
-           step % c.output.every == 0 || step == steps);
-    progress.update(solver.time(), step);
-  }
-  progress.finish();
+  long newton_total = 0;
+  run_time_loop(
+      {steps, c.output.every, c.time->end, outdir},
+      [&](long step) {
+        const int iterations = solver.advance(dt);
+        newton_total += iterations;
+        spdlog::debug("step {} t = {:.6g} s: {} Newton iterations", step, solver.time(), iterations);
+        return solver.time();
+      },
+      [&](long step, bool fields) { record(step, solver.time(), solver.displacement(), &solver.velocity(), fields); },
+      [&] { return solver.time(); });
+  spdlog::info("shell dynamics: {} steps to t = {:.6g} s, {} Newton iterations, {} factorisations",
+               steps, solver.time(), newton_total, solver.matrix_factorizations());
 }
 
 }  // namespace shellflow::app

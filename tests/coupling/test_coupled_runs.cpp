@@ -21,7 +21,9 @@ TEST(CoupledRuns, ARigidFlatPanelInTheFreeStreamStaysAtRestAndTheFlowUnchanged) 
   const fluid::FluidState U0 = s.flow->flow()->state();
   long fluid_steps = 0;
   while (fluid_steps < 10000) fluid_steps += s.driver->step(c.time->step).flow.substeps;
-  EXPECT_EQ(s.solver->displacement().cwiseAbs().maxCoeff(), 0.0);
+  // The flow changes at round-off level only (below), so the panel feels round-off loads
+  // (~1e-10 Pa) and moves by round-off (~1e-15 m, against a flutter amplitude of 1e-4 m).
+  EXPECT_LT(s.solver->displacement().cwiseAbs().maxCoeff(), 1e-12);
   const fluid::FluidState& U = s.flow->flow()->state();
   double change = 0.0;
   for (int v = 0; v < fluid::num_variables; ++v)
@@ -52,8 +54,11 @@ TEST(CoupledRuns, MeshMotionTestFollowsTheShellWithoutInvertingAndAsTheShellAlon
       const double scale = alone.displacement().cwiseAbs().maxCoeff();
       EXPECT_LE((s.solver->displacement() - alone.displacement()).cwiseAbs().maxCoeff(), 1e-10 * scale) << file;
     }
-    std::printf("%s: largest panel displacement %.4f m, lowest fluid mean-ratio quality %.3f\n", file,
-                s.solver->displacement().cwiseAbs().maxCoeff(), min_quality);
+    double w = 0.0;
+    for (Index j = 0; j < s.shell->num_nodes(); ++j)
+      w = std::max(w, std::abs(s.solver->displacement()[shell::dofs_per_node * j + 1]));
+    std::printf("%s: largest panel deflection at the end %.4f m, lowest fluid mean-ratio quality %.3f\n", file, w,
+                min_quality);
     EXPECT_GT(min_quality, 0.0) << file;
   }
 }

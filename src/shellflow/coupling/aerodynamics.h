@@ -19,6 +19,8 @@ namespace shellflow::coupling {
 struct FlowStepReport {
   int substeps = 0;          ///< fluid (or fluid-mesh) steps in the shell step
   double stable_substeps = 0;  ///< the sub-steps stability asked for (auto: before rounding up)
+  double mesh_seconds = 0.0;   ///< wall time of the mesh motion (space mesh, fluid nodes, wall velocity)
+  double flow_seconds = 0.0;   ///< wall time of the flow steps (and the stability check)
 };
 
 class AerodynamicModel {

@@ -1,6 +1,8 @@
 #include "shellflow/coupling/flow.h"
 
+#include <chrono>
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -54,20 +56,37 @@ FlowStepReport FlowModel::substeps_for(double dt) {
   return r;
 }
 
+namespace {
+using Clock = std::chrono::steady_clock;
+double seconds(Clock::time_point a, Clock::time_point b) { return std::chrono::duration<double>(b - a).count(); }
+}  // namespace
+
 FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
   const double t0 = time_;
   const double dt = t_end - t0;
+  auto c0 = Clock::now();
   FlowStepReport report = substeps_for(dt);
+  report.flow_seconds += seconds(c0, Clock::now());
   const int n = report.substeps;
+  // A failure inside the shell step puts the flow and the mesh back to t0, so that every
+  // field of the last valid state is of the same time.
+  std::optional<fluid::FluidSnapshot> start;
+  if (flow_) start = flow_->snapshot();
+  try {
   for (int m = 1; m <= n; ++m) {
     const double t = m == n ? t_end : t0 + dt * (static_cast<double>(m) / n);
+    const auto c1 = Clock::now();
     mover_->update(t, x_, w_);
     if (flow_) {
       motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
       flow_->set_wall_velocity(wall_.group, wall_velocity_);
+      const auto c2 = Clock::now();
+      report.mesh_seconds += seconds(c1, c2);
       flow_->step(t - flow_->time(), x_,
                   options_.interpolated_mesh_velocity ? std::span<const Vec3>(w_) : std::span<const Vec3>{});
+      report.flow_seconds += seconds(c2, Clock::now());
     } else {
+      report.mesh_seconds += seconds(c1, Clock::now());
       const auto q = mesh::cell_qualities(mesh_, x_);
       for (std::size_t e = 0; e < q.size(); ++e)
         if (!(q[e] > 0.0)) {
@@ -82,6 +101,12 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
         }
     }
     time_ = t;
+  }
+  } catch (const SolverError&) {
+    if (flow_) flow_->restore(*start);
+    mover_->update(t0, x_, w_);
+    time_ = t0;
+    throw;
   }
   return report;
 }

@@ -40,6 +40,8 @@ class FlowModel final : public AerodynamicModel {
             WallNodeMap wall, LoadPointMap loads, FlowModelOptions options);
 
   std::string name() const override { return flow_ ? "euler" : "mesh_motion"; }
+  /// On a failure (SolverError) the flow, the fluid mesh and the space mesh are put back to
+  /// their state at the start of the step before the error propagates.
   FlowStepReport advance(const ShellStepMotion& motion, double t_end) override;
   void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) override;
   std::span<const double> sign() const override { return loads_.sign; }

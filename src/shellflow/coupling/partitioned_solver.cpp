@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <chrono>
+
 #include "shellflow/core/error.h"
 #include "shellflow/fem/reference_element.h"
 
@@ -85,13 +87,25 @@ CouplingStepReport PartitionedSolver::step(double dt) {
   CouplingStepReport report;
   const shell::NewmarkState start = shell_.state();
   std::vector<double> next(current_.size());
+  using Clock = std::chrono::steady_clock;
+  const auto seconds = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   for (int k = 1;; ++k) {
+    auto c = Clock::now();
     if (!options_.monolithic) apply_loads();
     report.newton_iterations += shell_.advance(dt);
     motion_.set_window(start.time, shell_.time() - start.time, start.u, start.v, shell_.displacement(),
                        shell_.velocity());
-    report.flow = flow_.advance(motion_, shell_.time());
+    report.shell_seconds += seconds(c);
+    try {
+      report.flow = flow_.advance(motion_, shell_.time());
+    } catch (const SolverError&) {
+      // The flow is back at the start of the step: so is the shell.
+      shell_.restore(start);
+      throw;
+    }
+    c = Clock::now();
     flow_.pressure_rise(shell_.displacement(), shell_.velocity(), next);
+    report.transfer_seconds += seconds(c);
     report.coupling_iterations = k;
     if (k >= options_.max_iterations) break;
     // An implicit variant would test convergence of `next` against the loads applied, relax
@@ -102,8 +116,10 @@ CouplingStepReport PartitionedSolver::step(double dt) {
   current_.swap(next);
   has_previous_ = true;
   report.time = shell_.time();
+  const auto c = Clock::now();
   report.shell_force = shell_side_force(current_);
   report.fluid_force = flow_.fluid_side_force();
+  report.transfer_seconds += seconds(c);
   return report;
 }
 
