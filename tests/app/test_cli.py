@@ -109,6 +109,16 @@ class CheckCommand(unittest.TestCase):
         text = panel_case_text().replace("thickness: 1.35e-3", "thickness: -1.35e-3")
         self.assert_one_line_error(text, "shell.thickness", "thickness:")
 
+    def test_output_directory_is_not_passed_through_a_shell(self):
+        # The plot step starts Python with an argument vector: quotes and ; in the output
+        # directory are just characters of a file name.
+        hostile = os.path.join(self.tmp.name, 'o"; touch INJECTED; echo "')
+        r = shellflow("run", os.path.join(ROOT, "cases", "shell", "sze31_end_shear.yaml"), "-o", hostile)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists("INJECTED"))
+        self.assertFalse(os.path.exists(os.path.join(self.tmp.name, "INJECTED")))
+        self.assertTrue(os.path.getsize(os.path.join(hostile, "probes.png")) > 1000)
+
     def test_missing_case_file_is_a_usage_error(self):
         r = shellflow("check", os.path.join(self.tmp.name, "none.yaml"))
         self.assertNotEqual(r.returncode, 0)
@@ -250,6 +260,20 @@ class CoupledRuns(unittest.TestCase):
     def test_too_few_fixed_substeps_name_the_time_and_the_count_needed(self):
         text = panel_case_text(PANEL_COARSE).replace("substeps: auto", "substeps: 3")
         self.assert_run_error(text, "t = 0 s", "needs at least", "coupling.substeps")
+
+    def test_an_inverting_coupled_step_stops_after_writing_the_last_valid_state(self):
+        path = os.path.join(ROOT, "cases", "mesh_motion_tests", "antisymmetric_15000.yaml")
+        text = panel_case_text(path).replace("pressure: -15000", "pressure: -900000").replace(
+            "pressure: 15000", "pressure: 900000")
+        line = self.assert_run_error(text, "inverts fluid element", "(step 2)", "the last valid state (t = 0.001 s)")
+        self.assertRegex(line, r"t = 0\.00\d+ s: the mesh motion inverts")
+        out = os.path.join(self.tmp.name, "err")
+        import xml.etree.ElementTree as ET
+        for key in ("fluid", "space", "shell"):
+            files = [d.get("file") for d in ET.parse(os.path.join(out, key + ".pvd")).iter("DataSet")]
+            self.assertTrue(files, key)
+            for f in files:
+                self.assertIn("displacement", read_vtu_point_arrays(os.path.join(out, f)), f)
 
     def test_piston_theory_needs_the_wet_side(self):
         text = panel_case_text(os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml"))

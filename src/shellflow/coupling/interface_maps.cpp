@@ -83,7 +83,8 @@ WallNodeMap map_wall_nodes(const mesh::Mesh& fluid, std::string_view group,
     map.points[i] = c.point;
     map.gaps[i] = c.distance;
     if (c.distance > map.gap.max_gap || map.gap.worst < 0) {
-      map.gap = {c.distance, map.nodes[i], x};
+      const auto node = std::size_t(map.nodes[i]);
+      map.gap = {c.distance, map.nodes[i], node < fluid.node_tags.size() ? fluid.node_tags[node] : node + 1, x};
     }
   }
   return map;
@@ -120,7 +121,7 @@ LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& f
     map.sign[k] = points[k].normal.dot(-outward) >= 0.0 ? 1.0 : -1.0;
     map.gaps[k] = hit.distance;
     if (hit.distance > map.gap.max_gap || map.gap.worst < 0)
-      map.gap = {hit.distance, Index(k), points[k].position};
+      map.gap = {hit.distance, Index(k), std::size_t(points[k].point.element), points[k].position};
   }
   for (const auto& n : nodes) map.fluid_nodes.insert(map.fluid_nodes.end(), n.begin(), n.end());
   std::sort(map.fluid_nodes.begin(), map.fluid_nodes.end());
@@ -135,11 +136,13 @@ LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& f
 
 void check_gap(const GapReport& gap, double max_gap, std::string_view what) {
   if (gap.max_gap <= max_gap) return;
-  throw_input_error("coupling: {}: the largest gap is {:.3e} m at {} {} ({:.6g}, {:.6g}, {:.6g}), "
+  const bool wall = what.starts_with("fluid");
+  throw_input_error("{}: the largest gap is {:.3e} m at {} {} ({} {}) at ({:.6g}, {:.6g}, {:.6g}) m, "
                     "above coupling.max_gap = {:.3e} m: the shell and fluid meshes do not describe "
-                    "the same wet surface; check the geometry or raise max_gap",
-                    what, gap.max_gap, what.starts_with("fluid") ? "fluid node" : "shell load point",
-                    gap.worst, gap.where.x(), gap.where.y(), gap.where.z(), max_gap);
+                    "the same wet surface; check the geometry and coupling.fluid_group, or raise max_gap",
+                    what, gap.max_gap, wall ? "fluid node" : "shell load point", gap.worst,
+                    wall ? "Gmsh node tag" : "in shell element", gap.tag, gap.where.x(), gap.where.y(),
+                    gap.where.z(), max_gap);
 }
 
 void transfer_to_load_points(const LoadPointMap& map, std::span<const double> values,

@@ -27,6 +27,7 @@ namespace shellflow::coupling {
 struct GapReport {
   double max_gap = 0.0;
   Index worst = -1;        ///< fluid node (wall map) or shell load point (load map)
+  std::size_t tag = 0;     ///< Gmsh tag of that fluid node (wall map), shell element (load map)
   Vec3 where = Vec3::Zero();
 };
 

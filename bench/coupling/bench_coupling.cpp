@@ -1,0 +1,89 @@
+// Coupled panel flutter, piece by piece, on the cases' own meshes (cases/panel_flutter):
+//   BM_ShellStepPiston       one staggered shell step with piston-theory loads (the whole
+//                            piston run is 1400 of them);
+//   BM_SpaceMeshUpdate       the fluid-mesh motion of one fluid sub-step (space mesh IDW +
+//                            interpolation to every fluid node + wall velocity), paper meshes;
+//   BM_FlowStepMoving        one explicit flow step on the moved mesh, paper meshes;
+//   BM_CoupledShellStepEuler one whole shell step of the Euler-coupled run (shell + n_sub
+//                            sub-steps + loads), paper meshes.
+// Median of repetitions: --benchmark_repetitions=5 --benchmark_report_aggregates_only=true.
+#include <benchmark/benchmark.h>
+
+#include "shellflow/core/version.h"
+#include "shellflow/io/case_meshes.h"
+#include "shellflow/setup/coupled_setup.h"
+
+namespace {
+
+using namespace shellflow;
+
+const std::filesystem::path cases = std::filesystem::path(source_dir) / "cases" / "panel_flutter";
+
+struct System {
+  io::Case c;
+  io::CaseMeshes meshes;
+  setup::CoupledSystem s;
+  explicit System(const char* file)
+      : c(io::read_case(cases / file)), meshes(io::load_case_meshes(c, std::nullopt)),
+        s(setup::build_coupled_system(c, meshes)) {
+    // Past the start-up, with the panel moving.
+    for (int i = 0; i < 50; ++i) s.driver->step(c.time->step);
+  }
+};
+
+void BM_ShellStepPiston(benchmark::State& state) {
+  System sys("clamped_sliding_piston.yaml");
+  for (auto _ : state) sys.s.driver->step(sys.c.time->step);
+  state.counters["shell_nodes"] = double(sys.s.shell->num_nodes());
+}
+BENCHMARK(BM_ShellStepPiston)->Unit(benchmark::kMillisecond);
+
+System& euler() {
+  static System sys("clamped_clamped.yaml");
+  return sys;
+}
+
+void BM_SpaceMeshUpdate(benchmark::State& state) {
+  System& sys = euler();
+  auto& mover = const_cast<motion::FluidMeshMover&>(sys.s.flow->mover());
+  std::vector<Vec3> x(sys.s.fluid_mesh->nodes.size()), w(x.size());
+  const double t = sys.s.solver->time() - 0.5 * sys.c.time->step;  // inside the last window
+  for (auto _ : state) {
+    mover.update(t, x, w);
+    benchmark::DoNotOptimize(x.data());
+  }
+  state.counters["fluid_nodes"] = double(x.size());
+}
+BENCHMARK(BM_SpaceMeshUpdate)->Unit(benchmark::kMicrosecond);
+
+void BM_FlowStepMoving(benchmark::State& state) {
+  System& sys = euler();
+  fluid::FluidModel& flow = *sys.s.flow->flow();
+  const fluid::FluidSnapshot start = flow.snapshot();
+  const double dt = 0.5 * flow.stable_dt(0.5);
+  std::vector<Vec3> x(flow.positions().begin(), flow.positions().end());
+  for (auto& p : x) p.y() += 1e-9 * p.x();  // a moving mesh (w != 0)
+  for (auto _ : state) {
+    state.PauseTiming();
+    flow.restore(start);
+    state.ResumeTiming();
+    flow.step(dt, x);
+  }
+  flow.restore(start);
+  state.counters["tets"] = double(sys.s.fluid_mesh->num_cells());
+  state.counters["Mtet/s"] = benchmark::Counter(double(sys.s.fluid_mesh->num_cells()) * double(state.iterations()) / 1e6,
+                                                benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_FlowStepMoving)->Unit(benchmark::kMillisecond);
+
+void BM_CoupledShellStepEuler(benchmark::State& state) {
+  System& sys = euler();
+  int substeps = 0;
+  for (auto _ : state) substeps = sys.s.driver->step(sys.c.time->step).flow.substeps;
+  state.counters["substeps"] = substeps;
+}
+BENCHMARK(BM_CoupledShellStepEuler)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
