@@ -25,8 +25,8 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-/// The fluid mesh (and space mesh) of a coupled run without a flow: positions and mesh
-/// velocity only, and the mesh quality.
+/// The moving meshes of a coupled run: the space mesh's frames, the fluid mesh's quality
+/// and, in a run without a flow, the fluid mesh's frames (displacement, mesh velocity).
 class MeshWriter {
  public:
   MeshWriter(const setup::CoupledSystem& s, const io::CaseMeshes& meshes, const std::filesystem::path& outdir)
@@ -102,13 +102,15 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
                  bool plot) {
   const auto t_setup = Clock::now();
   setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
-  spdlog::info("coupled run: shell {} nodes / {} load points, aerodynamics '{}'{}, {} scheme{}",
+  const bool has_flow = c.fluid.has_value();
+  spdlog::info("coupled run: shell {} nodes / {} load points, aerodynamics '{}'{}, {}",
                s.shell->num_nodes(), s.shell->load_points().size(), s.aerodynamics->name(),
                s.flow && s.flow->flow() ? fmt::format(" ({} fluid nodes)", s.fluid_mesh->num_nodes()) : "",
-               s.driver->options().monolithic ? "monolithic" : "staggered",
-               s.driver->options().monolithic ? ""
-               : s.driver->options().predictor == coupling::LoadPredictor::linear ? " with the linear load predictor"
-                                                                                  : " without load predictor");
+               !has_flow                      ? "no loads exchanged (the shell moves the fluid mesh)"
+               : s.driver->options().monolithic ? "monolithic scheme"
+               : s.driver->options().predictor == coupling::LoadPredictor::linear
+                   ? "staggered scheme with the linear load predictor"
+                   : "staggered scheme without load predictor");
 
   ShellWriter shell_writer(*s.shell, outdir, c.output.shell_stress);
   std::optional<FluidWriter> fluid_writer;

@@ -250,8 +250,19 @@ class CoupledRuns(unittest.TestCase):
         return lines[-1]
 
     def test_meshes_that_do_not_share_the_wet_surface_are_refused(self):
+        # The shell 1 mm above the fluid's panel wall.
+        with open(os.path.join(ROOT, "cases", "panel_flutter", "panel_strip.geo")) as f:
+            geo = f.read().replace(", 0, ", ", 0.001, ")
+        lifted = self.write_case(geo, "lifted_strip.geo")
+        text = panel_case_text(PANEL_COARSE)
+        text = re.sub(r"shell: \{ geo: [^,]+,", "shell: { geo: " + lifted + ",", text)
+        text = text.replace(", 0.0, 0.0125]", ", 0.001, 0.0125]")  # the shell probes on the lifted shell
+        line = self.assert_run_error(text, "fluid wall nodes -> shell", "largest gap is 1.000e-03 m", "max_gap")
+        self.assertIn("Gmsh node tag", line)
+
+    def test_a_wet_group_the_motion_does_not_move_is_refused(self):
         text = panel_case_text(PANEL_COARSE).replace("fluid_group: panel", "fluid_group: far_field")
-        self.assert_run_error(text, "coupling", "largest gap", "max_gap")
+        self.assert_run_error(text, "coupling.fluid_group 'far_field' must be one of motion.interface_groups")
 
     def test_a_missing_coupling_group_names_the_group(self):
         text = panel_case_text(PANEL_COARSE).replace("fluid_group: panel", "fluid_group: panell")

@@ -73,35 +73,35 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
   std::optional<fluid::FluidSnapshot> start;
   if (flow_) start = flow_->snapshot();
   try {
-  for (int m = 1; m <= n; ++m) {
-    const double t = m == n ? t_end : t0 + dt * (static_cast<double>(m) / n);
-    const auto c1 = Clock::now();
-    mover_->update(t, x_, w_);
-    if (flow_) {
-      motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
-      flow_->set_wall_velocity(wall_.group, wall_velocity_);
-      const auto c2 = Clock::now();
-      report.mesh_seconds += seconds(c1, c2);
-      flow_->step(t - flow_->time(), x_,
-                  options_.interpolated_mesh_velocity ? std::span<const Vec3>(w_) : std::span<const Vec3>{});
-      report.flow_seconds += seconds(c2, Clock::now());
-    } else {
-      report.mesh_seconds += seconds(c1, Clock::now());
-      const auto q = mesh::cell_qualities(mesh_, x_);
-      for (std::size_t e = 0; e < q.size(); ++e)
-        if (!(q[e] > 0.0)) {
-          const auto v = mesh_.cells.element(Index(e));
-          const Vec3 c = 0.25 * (x_[std::size_t(v[0])] + x_[std::size_t(v[1])] + x_[std::size_t(v[2])] +
-                                 x_[std::size_t(v[3])]);
-          throw SolverError(fmt::format(
-              "t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
-              "the shell moves too far for this mesh: refine the fluid or space mesh near the "
-              "panel or change the motion's IDW exponents",
-              t, e, c.x(), c.y(), c.z()));
-        }
+    for (int m = 1; m <= n; ++m) {
+      const double t = m == n ? t_end : t0 + dt * (static_cast<double>(m) / n);
+      const auto c1 = Clock::now();
+      mover_->update(t, x_, w_);
+      if (flow_) {
+        motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
+        flow_->set_wall_velocity(wall_.group, wall_velocity_);
+        const auto c2 = Clock::now();
+        report.mesh_seconds += seconds(c1, c2);
+        flow_->step(t - flow_->time(), x_,
+                    options_.interpolated_mesh_velocity ? std::span<const Vec3>(w_) : std::span<const Vec3>{});
+        report.flow_seconds += seconds(c2, Clock::now());
+      } else {
+        report.mesh_seconds += seconds(c1, Clock::now());
+        const auto q = mesh::cell_qualities(mesh_, x_);
+        for (std::size_t e = 0; e < q.size(); ++e)
+          if (!(q[e] > 0.0)) {
+            const auto v = mesh_.cells.element(Index(e));
+            const Vec3 c = 0.25 * (x_[std::size_t(v[0])] + x_[std::size_t(v[1])] + x_[std::size_t(v[2])] +
+                                   x_[std::size_t(v[3])]);
+            throw SolverError(fmt::format(
+                "t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
+                "the shell moves too far for this mesh: refine the fluid or space mesh near the "
+                "panel or change the motion's IDW exponents",
+                t, e, c.x(), c.y(), c.z()));
+          }
+      }
+      time_ = t;
     }
-    time_ = t;
-  }
   } catch (const SolverError&) {
     if (flow_) flow_->restore(*start);
     mover_->update(t0, x_, w_);

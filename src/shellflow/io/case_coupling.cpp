@@ -1,6 +1,7 @@
 // The `coupling` section of a case file: a coupled fluid–shell run.
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <charconv>
 
 #include "shellflow/core/error.h"
@@ -77,6 +78,11 @@ void check_coupled_case(const Case& c) {
                               "motion.method: space_mesh");
   if (k.fluid_group.empty())
     throw_at(k.where, "give 'fluid_group': the fluid mesh's wet boundary (the panel's group)");
+  if (std::find(c.motion->interface_groups.begin(), c.motion->interface_groups.end(), k.fluid_group) ==
+      c.motion->interface_groups.end())
+    throw_at(k.where, fmt::format("coupling.fluid_group '{}' must be one of motion.interface_groups (the "
+                                  "boundary the shell moves); add it there",
+                                  k.fluid_group));
   if (euler) {
     if (!c.fluid->analysis || c.fluid->analysis->type != FluidAnalysisType::transient)
       throw_at(k.where, "a coupled run with fluid.model: euler needs 'fluid.analysis' of type transient "
