@@ -159,7 +159,7 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
   long newton_total = 0, substeps_total = 0;
   double worst_balance = 0.0;
   run_time_loop(
-      {steps, c.output.every, c.time->end, outdir},
+      {steps, c.output.every, c.time->end, outdir, {}},
       [&](long step) {
         const auto t0 = Clock::now();
         const coupling::CouplingStepReport r = s.driver->step(dt);

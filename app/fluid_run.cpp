@@ -1,6 +1,7 @@
 #include "fluid_run.h"
 
 #include "field_writers.h"
+#include "time_loop.h"
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -82,42 +83,39 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   record(0, true);
   const bool steady = analysis.type == io::FluidAnalysisType::steady;
   const double end = steady ? static_cast<double>(analysis.steps) : c.time->end;
-  Progress progress(0.0, end);
-  long step = 0;
   double first_density_rate = 0.0;
   bool converged = false;
-  try {
-    while (steady ? step < analysis.steps && !converged : model.time() < c.time->end * (1 - 1e-12)) {
-      if (steady) {
-        model.step_local(analysis.cfl);
-        if (step == 0) first_density_rate = model.density_rate();
-        converged = analysis.residual_drop &&
-                    model.density_rate() <= *analysis.residual_drop * first_density_rate;
-      } else if (motion) {
-        const double dt = std::min(model.stable_dt(analysis.cfl), c.time->end - model.time());
-        const double t_next = model.time() + dt;
-        const auto x = model.positions();
-        for (std::size_t a = 0; a < initial_positions.size(); ++a) {
-          next_positions[a] = initial_positions[a] + displacement(*motion, initial_positions[a], t_next);
-          mesh_velocity[a] = (next_positions[a] - x[a]) / dt;
+  TimeLoop loop;
+  loop.every = c.output.every;
+  loop.end_time = end;
+  loop.outdir = outdir;
+  loop.more = [&](long completed) {
+    return steady ? completed < analysis.steps && !converged : model.time() < c.time->end * (1 - 1e-12);
+  };
+  const long step = run_time_loop(
+      loop,
+      [&](long current) {
+        if (steady) {
+          model.step_local(analysis.cfl);
+          if (current == 1) first_density_rate = model.density_rate();
+          converged = analysis.residual_drop && model.density_rate() <= *analysis.residual_drop * first_density_rate;
+          return static_cast<double>(current);
         }
-        model.step(dt, next_positions, mesh_velocity);
-      } else {
-        model.step(std::min(model.stable_dt(analysis.cfl), c.time->end - model.time()));
-      }
-      ++step;
-      const bool last =
-          steady ? step == analysis.steps || converged : model.time() >= c.time->end * (1 - 1e-12);
-      record(step, step % c.output.every == 0 || last);
-      progress.update(steady ? static_cast<double>(step) : model.time(), step);
-    }
-  } catch (const SolverError& e) {
-    // The model keeps the last valid state: write it before reporting.
-    record(step, true);
-    throw SolverError(fmt::format("{}; the last valid state (t = {:.6g} s) is in {}", e.what(),
-                                  model.time(), outdir.string()));
-  }
-  progress.finish();
+        const double dt = std::min(model.stable_dt(analysis.cfl), c.time->end - model.time());
+        if (motion) {
+          const double t_next = model.time() + dt;
+          const auto x = model.positions();
+          for (std::size_t a = 0; a < initial_positions.size(); ++a) {
+            next_positions[a] = initial_positions[a] + displacement(*motion, initial_positions[a], t_next);
+            mesh_velocity[a] = (next_positions[a] - x[a]) / dt;
+          }
+          model.step(dt, next_positions, mesh_velocity);
+        } else {
+          model.step(dt);
+        }
+        return model.time();
+      },
+      record, [&] { return model.time(); });
   if (steady) {
     spdlog::info("steady flow: {} local steps, density rate {:.3e} ({:.2e} of the first step's)",
                  step, model.density_rate(),

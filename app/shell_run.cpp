@@ -115,7 +115,7 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
   long newton_total = 0;
   run_time_loop(
-      {steps, c.output.every, c.time->end, outdir},
+      {steps, c.output.every, c.time->end, outdir, {}},
       [&](long step) {
         const int iterations = solver.advance(dt);
         newton_total += iterations;
