@@ -2,8 +2,6 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include <unistd.h>
-
 #include <cstdio>
 #include <fstream>
 
@@ -41,23 +39,8 @@ int mesh_command(const CommonOptions& options, bool json) {
   }
   std::fflush(stdout);
   spdlog::info("wrote {}: <mesh>.msh, <mesh>.vtu, meshes.json", outdir.string());
-  if (options.plot) {
-    if (json) {
-      // stdout carries the JSON object only: the plot script's own messages go to stderr.
-      const int saved_stdout = ::dup(STDOUT_FILENO);
-      if (saved_stdout < 0 || ::dup2(STDERR_FILENO, STDOUT_FILENO) < 0) {
-        spdlog::warn("plot skipped: cannot keep its messages off stdout (--json)");
-        if (saved_stdout >= 0) ::close(saved_stdout);
-        return 0;
-      }
-      make_plot("plot_mesh.py", {outdir.string()});
-      std::fflush(stdout);
-      ::dup2(saved_stdout, STDOUT_FILENO);
-      ::close(saved_stdout);
-    } else {
-      make_plot("plot_mesh.py", {outdir.string()});
-    }
-  }
+  // With --json, stdout carries the JSON object only: the plot script's messages go to stderr.
+  if (options.plot) make_plot("plot_mesh.py", {outdir.string()}, json);
   return 0;
 }
 

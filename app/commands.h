@@ -20,7 +20,8 @@ int check_command(const CommonOptions& options);
 
 /// Runs tools/<script> with Debian's Python on the argument vector `args` (no shell is
 /// involved); logs a warning (not an error) if the plot cannot be made, since the numerical
-/// output is already written.
-void make_plot(const std::string& script, const std::vector<std::string>& args);
+/// output is already written. `output_to_stderr`: the script's stdout goes to our stderr
+/// (when stdout carries machine-readable output, e.g. `mesh --json`).
+void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr = false);
 
 }  // namespace shellflow::app

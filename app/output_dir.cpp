@@ -5,6 +5,7 @@
 
 #include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
@@ -28,7 +29,7 @@ std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions&
 
 extern "C" char** environ;
 
-void make_plot(const std::string& script, const std::vector<std::string>& args) {
+void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr) {
   const auto path = std::filesystem::path(shellflow::source_dir) / "tools" / script;
   if (!std::filesystem::exists(path)) {
     spdlog::warn("plot skipped: {} not found", path.string());
@@ -42,7 +43,11 @@ void make_plot(const std::string& script, const std::vector<std::string>& args) 
   argv.push_back(nullptr);
   spdlog::debug("plot: {} {}", SHELLFLOW_PYTHON, fmt::join(std::vector<std::string>(words.begin() + 1, words.end()), " "));
   pid_t pid = 0;
-  const int rc = posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  if (output_to_stderr) posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);
+  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
     spdlog::warn("plot failed: cannot start {} ({}); the numerical output is complete", SHELLFLOW_PYTHON,
                  std::strerror(rc));

@@ -559,5 +559,150 @@ class MotionRuns(unittest.TestCase):
         self.assertTrue((m.cell_data["quality"][0] > 0).all())
 
 
+class InputHardening(unittest.TestCase):
+    """Untrusted case files: `check` and `mesh` run nothing a .geo asks for, damaged .msh
+    files and malformed YAML are one-line errors (no crash, no hang), `mesh --json` prints
+    JSON only."""
+
+    STRIP_GEO = os.path.join(ROOT, "cases", "panel_flutter", "panel_strip.geo")
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def write(self, name, text):
+        path = os.path.join(self.dir, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def case(self, mesh_line, name="case.yaml"):
+        return self.write(name, "name: strip\nmeshes:\n  shell: { %s }\nprobes:\n"
+                                "  - { name: w, field: shell.displacement, group: panel }\n" % mesh_line)
+
+    def run_in_dir(self, *args, timeout=120):
+        # Gmsh runs a script's commands in the current directory: run in the case folder.
+        return subprocess.run([EXE, *args], capture_output=True, text=True, timeout=timeout,
+                              cwd=self.dir)
+
+    def assert_one_line(self, r, *needles):
+        self.assertEqual(r.returncode, 1, (r.returncode, r.stdout, r.stderr))
+        lines = r.stderr.strip().splitlines()
+        error = [l for l in lines if l.startswith("shellflow: error: ")]
+        self.assertEqual(len(error), 1, r.stderr)
+        others = [l for l in lines if l not in error and "] info: " not in l]  # `mesh` logs
+        self.assertEqual(others, [], r.stderr)
+        for needle in needles:
+            self.assertIn(needle, error[0])
+        return error[0]
+
+    def strip_msh(self):
+        """A good .msh of the panel strip, written by `shellflow mesh`."""
+        case = self.case("geo: %s, order: 3" % self.STRIP_GEO, "good.yaml")
+        out = os.path.join(self.dir, "good")
+        r = shellflow("mesh", case, "-o", out, "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "shell.msh")) as f:
+            return f.read().splitlines()
+
+    def test_geo_system_command_runs_nothing(self):
+        with open(self.STRIP_GEO) as f:
+            geo = f.read()
+        line = geo.count("\n") + 1
+        self.write("strip.geo", geo + 'System "touch INJECTED";\n')
+        case = self.case("geo: strip.geo, order: 3")
+        for command in (["check", case], ["mesh", case, "-o", os.path.join(self.dir, "out"), "--no-plot"]):
+            r = self.run_in_dir(*command)
+            self.assert_one_line(r, f"strip.geo:{line}: Gmsh command 'System' runs a shell command",
+                                 "remove it")
+            self.assertFalse(os.path.exists(os.path.join(self.dir, "INJECTED")), command[0])
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "out", "shell.msh")))
+
+    def test_include_outside_the_folder_is_refused(self):
+        with open(self.STRIP_GEO) as f:
+            geo = f.read()
+        self.write("strip.geo", geo + 'Include "/etc/hostname";\n')
+        r = self.run_in_dir("check", self.case("geo: strip.geo"))
+        self.assert_one_line(r, "strip.geo:", "absolute path")
+
+    def test_include_inside_the_folder_works_from_a_bare_case_name(self):
+        with open(self.STRIP_GEO) as f:
+            geo = f.read()
+        self.write("part.geo", geo)
+        self.write("strip.geo", 'Include "part.geo";\n')
+        self.case("geo: strip.geo", "bare.yaml")
+        r = self.run_in_dir("check", "bare.yaml")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("OK", r.stdout)
+
+    def test_geo_script_named_msh_is_not_a_mesh(self):
+        with open(self.STRIP_GEO) as f:
+            geo = f.read()
+        self.write("strip.msh", geo + 'System "touch INJECTED";\n')
+        case = self.case("msh: strip.msh")
+        for command in (["check", case], ["mesh", case, "-o", os.path.join(self.dir, "out"), "--no-plot"]):
+            r = self.run_in_dir(*command)
+            self.assert_one_line(r, "strip.msh:1: not a Gmsh mesh file")
+            self.assertFalse(os.path.exists(os.path.join(self.dir, "INJECTED")))
+
+    def test_damaged_msh_files_exit_1_with_one_line(self):
+        good = self.strip_msh()
+        names = good.index("$PhysicalNames")
+        end_names = good.index("$EndPhysicalNames")
+        def replaced(index, text):
+            lines = list(good)
+            lines[index] = text
+            return "\n".join(lines) + "\n"
+        damaged = {
+            # Gmsh 4.8 dies with SIGSEGV in GModel::setPhysicalName on these two.
+            "dim99.msh": (replaced(names + 2, '99 1 "bad"'), "damaged $PhysicalNames section (line %d)" % (names + 3)),
+            "endnames.msh": (replaced(end_names, '99 1 "bad"'), "damaged $PhysicalNames section"),
+            "count.msh": (replaced(names + 1, "x4"), "damaged $PhysicalNames section"),
+            "nodes.msh": (replaced(good.index("$EndNodes"), "$EndNode"), "damaged $Nodes section"),
+            "cut.msh": ("\n".join(good[: len(good) // 2]) + "\n", "damaged $Nodes section"),
+            "binary.msh": (replaced(1, "4.1 1 8"), "binary .msh files are not supported"),
+            "empty.msh": ("", "empty.msh: empty file; "),
+        }
+        for name, (text, expected) in damaged.items():
+            self.write(name, text)
+            case = self.case("msh: %s" % name, name + ".yaml")
+            r = self.run_in_dir("check", case)
+            self.assertGreaterEqual(r.returncode, 0, f"{name}: killed by signal {-r.returncode}")
+            message = self.assert_one_line(r, name, expected)
+            if name != "empty.msh":
+                self.assertIn("re-export the mesh from Gmsh", message)
+            r = self.run_in_dir("mesh", case, "-o", os.path.join(self.dir, "out"), "--no-plot")
+            self.assertGreaterEqual(r.returncode, 0, f"{name}: killed by signal {-r.returncode}")
+            self.assert_one_line(r, name, expected)
+
+    def test_malformed_yaml_fails_fast_with_one_line(self):
+        import time
+        for text in (",", "]", "{", "- [", ": :", "---", ",\n,", "a: 1\n,", "}"):
+            path = self.write("bad.yaml", text)
+            start = time.monotonic()
+            try:
+                r = subprocess.run([EXE, "check", path], capture_output=True, text=True, timeout=10)
+            except subprocess.TimeoutExpired:
+                self.fail(f"check of {text!r} hangs")
+            elapsed = time.monotonic() - start
+            self.assertLess(elapsed, 1.0, text)
+            self.assertEqual(r.returncode, 1, (text, r.stderr))
+            lines = r.stderr.strip().splitlines()
+            self.assertEqual(len(lines), 1, r.stderr)
+            self.assertIn(path + ":", lines[0])
+
+    def test_mesh_json_stdout_is_only_json(self):
+        case = self.case("geo: %s, order: 3" % self.STRIP_GEO)
+        out = os.path.join(self.dir, "out")
+        r = shellflow("mesh", case, "-o", out, "--json")  # with the plot
+        self.assertEqual(r.returncode, 0, r.stderr)
+        report = json.loads(r.stdout)
+        self.assertEqual(report["shell"]["elements"], 40)
+        self.assertTrue(os.path.getsize(os.path.join(out, "meshes.png")) > 1000)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -4,7 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <future>
+#include <memory>
 #include <string>
+#include <thread>
 
 #include "shellflow/core/error.h"
 
@@ -205,6 +211,39 @@ TEST(YamlNode, SyntaxErrorsAndNonMapDocumentsAreReportedWithTheirLine) {
             "cases/t.yaml:1: expected a map of keys at the top level, got a list");
   EXPECT_EQ(error_of([] { load("a: 1\n---\nb: 2\n"); }),
             "cases/t.yaml:3: expected one YAML document, found 2; remove the '---' separators");
+}
+
+TEST(YamlNode, MalformedStreamsFailFastWithOneLine) {
+  // yaml-cpp 0.7's LoadAll loops forever (memory growing) on some of these, e.g. a lone ','.
+  const std::vector<std::string> inputs = {",", "]", "{", "- [", ": :", "---", "}", "[",
+                                           ",\n,", "a: 1\n,", "- ]", "&a", "*a", "? "};
+  for (const std::string& text : inputs) {
+    auto done = std::make_shared<std::promise<std::string>>();
+    auto result = done->get_future();
+    std::thread([text, done] {
+      try {
+        load(text);
+        done->set_value("");
+      } catch (const InputError& e) {
+        done->set_value(e.what());
+      } catch (const std::exception& e) {
+        done->set_value(std::string("not an InputError: ") + e.what());
+      }
+    }).detach();
+    if (result.wait_for(std::chrono::seconds(1)) != std::future_status::ready) {
+      ADD_FAILURE() << "reading '" << text << "' did not finish within 1 s";
+      std::fflush(nullptr);
+      std::_Exit(1);  // the parser thread cannot be stopped; stop before memory runs out
+    }
+    const std::string msg = result.get();
+    EXPECT_EQ(msg.rfind("cases/t.yaml:", 0), 0u) << "'" << text << "': " << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  EXPECT_EQ(error_of([] { load(","); }), "cases/t.yaml:1: YAML syntax error: unexpected ','");
+  EXPECT_EQ(error_of([] { load("a: 1\n---\nb: 2\n---\nc: 3\n"); }),
+            "cases/t.yaml:3: expected one YAML document, found 3; remove the '---' separators");
+  // '---' inside a block scalar is text, not a separator.
+  EXPECT_EQ(load("a: |\n  ---\n  x\nb: 2\n").required<std::string>("a"), "---\nx\n");
 }
 
 TEST(YamlNode, FilesAreResolvedRelativeToTheCaseFile) {

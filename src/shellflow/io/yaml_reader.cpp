@@ -17,6 +17,7 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wdangling-pointer"
 #endif
+#include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/yaml.h>
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
 #pragma GCC diagnostic pop
@@ -147,6 +148,61 @@ int line_of(const YAML::Mark& mark, int fallback) {
   return mark.is_null() || mark.line < 0 ? fallback : mark.line + 1;
 }
 
+/// Records where each document of a stream starts (the mark of its first event).
+class DocumentCounter : public YAML::EventHandler {
+ public:
+  std::optional<YAML::Mark> first_mark;  ///< of the current document's first node
+  void OnDocumentStart(const YAML::Mark&) override { first_mark.reset(); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
+  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                const std::string&) override {
+    note(m);
+  }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {
+    note(m);
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {
+    note(m);
+  }
+  void OnMapEnd() override {}
+
+ private:
+  void note(const YAML::Mark& m) {
+    if (!first_mark) first_mark = m;
+  }
+};
+
+/// Number of documents in `text` and the 1-based line of the second one's first node.
+/// A document that starts where the previous one started (the parser makes no progress, as
+/// yaml-cpp 0.7 does on a lone ',') is a syntax error at that character.
+std::pair<int, int> count_documents(const std::string& text) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentCounter counter;
+  int count = 0, second_line = 0;
+  std::optional<int> previous_pos;
+  while (parser.HandleNextDocument(counter)) {
+    const YAML::Mark mark = counter.first_mark.value_or(YAML::Mark::null_mark());
+    const int pos = mark.is_null() ? -1 : mark.pos;
+    if (previous_pos && pos <= *previous_pos) {
+      std::size_t at = pos >= 0 ? static_cast<std::size_t>(pos) : 0;
+      while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
+      const std::string what =
+          at < text.size() ? fmt::format("unexpected '{}'", text[at]) : "unexpected text";
+      throw YAML::ParserException(mark, what);
+    }
+    previous_pos = pos;
+    ++count;
+    if (count == 2) second_line = line_of(mark, 1);
+  }
+  return {count, second_line};
+}
+
 }  // namespace
 
 struct YamlNode::Impl {
@@ -195,7 +251,9 @@ struct YamlNode::Impl {
 
   void index_entries() {
     for (auto it = node.begin(); it != node.end(); ++it) {
-      const YAML::Node& key = it->first;
+      // By value: `it->first` lives in a proxy that dies at the end of the statement.
+      const YAML::Node key = it->first;
+      const YAML::Node value = it->second;
       const int key_line = line_of(key.Mark(), line);
       if (!key.IsScalar()) {
         throw_at({doc->file, key_line, path},
@@ -205,7 +263,7 @@ struct YamlNode::Impl {
         throw_at({doc->file, key_line, path_of(key.Scalar())},
                  fmt::format("duplicate key; it was first given at line {}", first->line));
       }
-      entries.push_back({key.Scalar(), key_line, it->second, false, nullptr});
+      entries.push_back({key.Scalar(), key_line, value, false, nullptr});
     }
   }
 
@@ -245,18 +303,22 @@ YamlNode YamlNode::load_string(std::string_view text, const fs::path& file) {
   auto doc = std::make_shared<Document>();
   doc->file = file.string();
   doc->base_dir = file.parent_path();
-  std::vector<YAML::Node> documents;
+  // yaml-cpp 0.7's LoadAll loops forever on some malformed streams (a lone ','): count the
+  // documents with the event parser, stopping when a document starts where the previous one
+  // did, then build the first document alone with Load.
+  const std::string owned(text);
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(std::string(text));
+    const auto [count, second_line] = count_documents(owned);
+    if (count > 1) {
+      throw_at({doc->file, second_line, {}},
+               fmt::format("expected one YAML document, found {}; remove the '---' separators",
+                           count));
+    }
+    root = YAML::Load(owned);
   } catch (const YAML::Exception& e) {
     throw_at({doc->file, line_of(e.mark, 0), {}}, "YAML syntax error: " + e.msg);
   }
-  if (documents.size() > 1) {
-    throw_at({doc->file, line_of(documents[1].Mark(), 0), {}},
-             fmt::format("expected one YAML document, found {}; remove the '---' separators",
-                         documents.size()));
-  }
-  YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   if (!root.IsMap()) {
     throw_at({doc->file, 1, {}},
              fmt::format("expected a map of keys at the top level, got {}",

@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "shellflow/core/error.h"
+#include "shellflow/mesh/gmsh_input_check.h"
 
 namespace shellflow::mesh {
 namespace {
@@ -196,6 +197,7 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
     throw_input_error("{}: mesh size factor must be > 0, got {}", geometry.string(),
                       options.size_factor);
   }
+  check_gmsh_input(geometry);  // no commands run from the script, no damaged mesh to Gmsh
   GmshSession session(options.verbose);
   Mesh mesh;
   with_gmsh(geometry, "mesh the geometry", [&] {
@@ -217,6 +219,8 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
 
 Mesh read_msh(const std::filesystem::path& msh, std::string mesh_name) {
   require_file(msh);
+  check_msh_file(msh);  // read only as a mesh, and not a damaged one (Gmsh may crash)
+  check_gmsh_option_files(msh);
   GmshSession session(false);
   Mesh mesh;
   with_gmsh(msh, "read the mesh", [&] {
@@ -228,6 +232,7 @@ Mesh read_msh(const std::filesystem::path& msh, std::string mesh_name) {
 
 std::vector<std::string> physical_group_names(const std::filesystem::path& file) {
   require_file(file);
+  check_gmsh_input(file);  // `shellflow check` runs nothing a .geo asks for
   GmshSession session(false);
   std::vector<std::string> names;
   with_gmsh(file, "read the physical groups", [&] {

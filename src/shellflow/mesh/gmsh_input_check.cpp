@@ -1,0 +1,740 @@
+#include "shellflow/mesh/gmsh_input_check.h"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <unordered_set>
+#include <utility>
+#include <vector>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::mesh {
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+std::string extension_of(const fs::path& file) { return lower(file.extension().string()); }
+
+std::string read_text(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) {
+    throw_input_error("{}: cannot open the file (check the path and its permissions)",
+                      file.string());
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+/// The folder of `file` ("." for a bare file name, so that paths can be joined to it).
+fs::path folder_of(const fs::path& file) {
+  return file.has_parent_path() ? file.parent_path() : fs::path(".");
+}
+
+bool is_cad_extension(const std::string& ext) {
+  return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep";
+}
+
+// ---- .geo scripts ---------------------------------------------------------------------------
+
+struct GeoToken {
+  enum Kind { identifier, string, symbol } kind;
+  std::string text;
+  int line;
+};
+
+/// Tokens of a Gmsh script as Gmsh's lexer sees them: `//` and `/* */` comments skipped,
+/// strings run from `"` to the next `"` (Gmsh has no escapes in strings), identifiers are
+/// [A-Za-z_][A-Za-z0-9_]*; digits and other characters are one-character symbols (so that
+/// `2System` still shows `System`).
+std::vector<GeoToken> geo_tokens(std::string_view s) {
+  std::vector<GeoToken> out;
+  int line = 1;
+  std::size_t i = 0;
+  const std::size_t n = s.size();
+  auto is_ident_start = [](char c) {
+    return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
+  };
+  auto is_ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
+  while (i < n) {
+    const char c = s[i];
+    if (c == '\n') {
+      ++line;
+      ++i;
+    } else if (std::isspace(static_cast<unsigned char>(c))) {
+      ++i;
+    } else if (c == '/' && i + 1 < n && s[i + 1] == '/') {
+      while (i < n && s[i] != '\n') ++i;
+    } else if (c == '/' && i + 1 < n && s[i + 1] == '*') {
+      i += 2;
+      while (i < n && !(s[i] == '*' && i + 1 < n && s[i + 1] == '/')) {
+        if (s[i] == '\n') ++line;
+        ++i;
+      }
+      i = std::min(n, i + 2);
+    } else if (c == '"') {
+      const int start_line = line;
+      std::size_t j = i + 1;
+      while (j < n && s[j] != '"') {
+        if (s[j] == '\n') ++line;
+        ++j;
+      }
+      out.push_back({GeoToken::string, std::string(s.substr(i + 1, j - i - 1)), start_line});
+      i = std::min(n, j + 1);
+    } else if (is_ident_start(c)) {
+      std::size_t j = i;
+      while (j < n && is_ident(s[j])) ++j;
+      out.push_back({GeoToken::identifier, std::string(s.substr(i, j - i)), line});
+      i = j;
+    } else {
+      out.push_back({GeoToken::symbol, std::string(1, c), line});
+      ++i;
+    }
+  }
+  return out;
+}
+
+constexpr std::string_view kGeoFix =
+    "shellflow runs no commands from a geometry: remove it from the script (run such steps "
+    "yourself before the case)";
+
+struct GeoScanner {
+  fs::path root;  ///< folder of the top-level file: included/merged files must stay inside
+  std::vector<fs::path> stack;  ///< files being scanned (include cycles)
+
+  [[noreturn]] static void fail(const fs::path& file, int line, std::string_view what) {
+    throw InputError(fmt::format("{}:{}: {}", file.string(), line, what));
+  }
+
+  /// A file named by Include/Merge/ShapeFromFile in `file`: a relative path that stays in
+  /// the top-level folder and exists.
+  fs::path referenced_file(const fs::path& file, const GeoToken& command,
+                           const GeoToken& name) const {
+    const fs::path given(name.text);
+    if (name.text.empty() || given.is_absolute()) {
+      fail(file, name.line,
+           fmt::format("'{}' of the absolute path '{}': a script may only {} files of its own "
+                       "folder; copy the file next to the .geo and name it relatively",
+                       command.text, name.text, lower(command.text)));
+    }
+    const fs::path target = (folder_of(file) / given).lexically_normal();
+    std::error_code ec_root, ec_target;
+    const fs::path real_root = fs::weakly_canonical(root, ec_root);
+    const fs::path real_target = fs::weakly_canonical(target, ec_target);
+    const fs::path rel = real_target.lexically_relative(real_root);
+    if (ec_root || ec_target || rel.empty() || *rel.begin() == "..") {
+      fail(file, name.line,
+           fmt::format("'{}' of '{}' leaves the folder of the geometry ({}); a script may only "
+                       "{} files of its own folder: copy the file there",
+                       command.text, name.text, root.string(), lower(command.text)));
+    }
+    std::error_code ec;
+    if (!fs::is_regular_file(target, ec)) {
+      fail(file, name.line,
+           fmt::format("'{}' of '{}': file not found (looked for '{}')", command.text,
+                       name.text, target.string()));
+    }
+    return target;
+  }
+
+  void scan(const fs::path& file) {
+    std::error_code ec;
+    const fs::path real = fs::weakly_canonical(file, ec);
+    if (std::find(stack.begin(), stack.end(), real) != stack.end()) {
+      throw_input_error("{}: the script includes itself (through {}); remove the cycle",
+                        file.string(), stack.back().string());
+    }
+    if (stack.size() > 32) {
+      throw_input_error("{}: more than 32 nested Include/Merge levels; flatten the scripts",
+                        file.string());
+    }
+    stack.push_back(real);
+    const std::string text = read_text(file);
+    if (!text.empty() && text.front() == '$') {
+      throw_input_error("{}:1: looks like a Gmsh mesh or data file, not a .geo script (Gmsh would "
+                        "read it as a mesh); give a mesh as 'msh:' with a .msh name",
+                        file.string());
+    }
+    const std::vector<GeoToken> tokens = geo_tokens(text);
+    for (std::size_t k = 0; k < tokens.size(); ++k) {
+      const GeoToken& t = tokens[k];
+      if (t.kind == GeoToken::string) {
+        // Gmsh skips the inside of a false If, an empty For and a Function body without
+        // reading strings: a block end or a comment opener inside a string would make it
+        // resume where this scanner sees a string.
+        for (std::string_view word : {"EndIf", "Else", "EndFor", "Return", "/*", "//"}) {
+          if (t.text.find(word) != std::string::npos) {
+            fail(file, t.line,
+                 fmt::format("a string holds '{}', which Gmsh's If/For/Function skipping reads "
+                             "as script text, so the script cannot be checked; take '{}' out "
+                             "of the string",
+                             word, word));
+          }
+        }
+        continue;
+      }
+      if (t.kind != GeoToken::identifier) continue;
+      const std::string& w = t.text;
+      if (w == "System" || w == "SystemCall" || w == "NonBlockingSystemCall") {
+        fail(file, t.line, fmt::format("Gmsh command '{}' runs a shell command; {}", w, kGeoFix));
+      }
+      if (w == "OnelabRun") {
+        fail(file, t.line, fmt::format("Gmsh command '{}' runs an external program; {}", w, kGeoFix));
+      }
+      if (w == "Print" || w == "Save" || w == "CreateDir") {
+        fail(file, t.line, fmt::format("Gmsh command '{}' writes files; {}", w, kGeoFix));
+      }
+      if (w == "Exit") {
+        fail(file, t.line, fmt::format("Gmsh command 'Exit' would end shellflow; {}", kGeoFix));
+      }
+      if (w == "Printf") {
+        // Printf(...) > "file" and >> "file" write files.
+        std::size_t j = k + 1;
+        int depth = 0;
+        for (; j < tokens.size(); ++j) {
+          if (tokens[j].kind != GeoToken::symbol) continue;
+          if (tokens[j].text == "(") ++depth;
+          if (tokens[j].text == ")" && --depth <= 0) break;
+          if (tokens[j].text == ";" && depth <= 0) break;
+        }
+        if (j + 1 < tokens.size() && tokens[j + 1].kind == GeoToken::symbol &&
+            tokens[j + 1].text == ">") {
+          fail(file, t.line, fmt::format("Printf(...) > \"file\" writes a file; {}", kGeoFix));
+        }
+        continue;
+      }
+      const bool include = w == "Include";
+      const bool merge = w == "Merge" || w == "MergeWithBoundingBox";
+      const bool shape = w == "ShapeFromFile";
+      if (!include && !merge && !shape) continue;
+      std::size_t j = k + 1;
+      if (shape && j < tokens.size() && tokens[j].text == "(" &&
+          tokens[j].kind == GeoToken::symbol)
+        ++j;
+      const bool literal = j < tokens.size() && tokens[j].kind == GeoToken::string &&
+                           j + 1 < tokens.size() && tokens[j + 1].kind == GeoToken::symbol &&
+                           tokens[j + 1].text == (shape ? ")" : ";");
+      if (!literal) {
+        fail(file, t.line,
+             fmt::format("'{}' must name its file as one quoted relative path (e.g. {} "
+                         "\"part.geo\";), so that shellflow can check it",
+                         w, w));
+      }
+      const fs::path target = referenced_file(file, t, tokens[j]);
+      const std::string ext = extension_of(target);
+      if (include) {
+        scan(target);  // Gmsh parses an included file as a script whatever its name
+      } else if (shape) {
+        if (!is_cad_extension(ext)) {
+          fail(file, t.line,
+               fmt::format("ShapeFromFile of '{}': expected a STEP, IGES or BREP file",
+                           tokens[j].text));
+        }
+      } else if (ext == ".geo") {
+        scan(target);
+        scan_option_files(target);
+      } else if (ext == ".msh") {
+        check_msh_file(target);
+        scan_option_files(target);
+      } else if (is_cad_extension(ext)) {
+        scan_option_files(target);
+      } else {
+        fail(file, t.line,
+             fmt::format("Merge of '{}': shellflow merges only .geo, .msh, STEP, IGES and BREP "
+                         "files",
+                         tokens[j].text));
+      }
+    }
+    stack.pop_back();
+  }
+
+  /// Gmsh merges `FILE.opt` (then `FILE.opt.opt`, ...) after every file it opens or merges.
+  void scan_option_files(const fs::path& file) {
+    std::error_code ec;
+    fs::path opt = file;
+    for (int level = 0; level < 8; ++level) {
+      opt += ".opt";
+      if (!fs::exists(opt, ec)) return;
+      scan(opt);
+    }
+    throw_input_error("{}: too many nested option files; remove them", opt.string());
+  }
+};
+
+// ---- .msh files -----------------------------------------------------------------------------
+
+struct MshLine {
+  std::string_view text;
+  int number;
+};
+
+std::vector<MshLine> split_lines(std::string_view s) {
+  std::vector<MshLine> lines;
+  std::size_t start = 0;
+  int number = 1;
+  while (start < s.size()) {
+    std::size_t end = s.find('\n', start);
+    if (end == std::string_view::npos) end = s.size();
+    std::string_view line = s.substr(start, end - start);
+    while (!line.empty() && std::isspace(static_cast<unsigned char>(line.back())))
+      line.remove_suffix(1);
+    lines.push_back({line, number++});
+    start = end + 1;
+  }
+  return lines;
+}
+
+constexpr std::string_view kMshFix = "re-export the mesh from Gmsh (format 4.1, ASCII)";
+
+/// The tokens of one section, read one by one with the line each comes from.
+class SectionReader {
+ public:
+  SectionReader(const fs::path& file, std::string section, const std::vector<MshLine>& lines,
+                std::size_t begin, std::size_t end)
+      : file_(file), section_(std::move(section)), lines_(lines), line_(begin), end_(end),
+        last_line_(begin > 0 ? begin - 1 : 0) {}
+
+  /// Throws "FILE: damaged $SECTION section (line N): WHAT; FIX" at the last line read.
+  [[noreturn]] void fail(std::string_view what) const {
+    throw InputError(fmt::format("{}: damaged ${} section (line {}): {}; {}", file_.string(),
+                                 section_, lines_[last_line_].number, what, kMshFix));
+  }
+
+  /// The next token, from this line or the following ones (Gmsh reads with fscanf).
+  std::optional<std::string_view> next() {
+    while (line_ < end_) {
+      const std::string_view s = lines_[line_].text;
+      while (pos_ < s.size() && std::isspace(static_cast<unsigned char>(s[pos_]))) ++pos_;
+      if (pos_ < s.size()) {
+        std::size_t e = pos_;
+        while (e < s.size() && !std::isspace(static_cast<unsigned char>(s[e]))) ++e;
+        const std::string_view token = s.substr(pos_, e - pos_);
+        pos_ = e;
+        last_line_ = line_;
+        return token;
+      }
+      ++line_;
+      pos_ = 0;
+    }
+    return std::nullopt;
+  }
+
+  /// The next whole line that holds anything (and moves past it); empty at the end.
+  std::optional<std::string_view> next_line() {
+    if (line_ < end_ && pos_ > 0) {
+      ++line_;
+      pos_ = 0;
+    }
+    while (line_ < end_ && lines_[line_].text.find_first_not_of(" \t\r") == std::string_view::npos)
+      ++line_;
+    if (line_ >= end_) return std::nullopt;
+    last_line_ = line_;
+    pos_ = lines_[line_].text.size();
+    return lines_[line_].text;
+  }
+
+  template <class T>
+  T parse_integer(std::string_view token, std::string_view what, T lo, T hi) const {
+    T value{};
+    const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
+    if (ec != std::errc() || ptr != token.data() + token.size()) {
+      fail(fmt::format("expected {} (an integer), got '{}'", what, token.substr(0, 40)));
+    }
+    if (value < lo || value > hi) {
+      fail(fmt::format("{} must be in [{}, {}], got {}", what, lo, hi, value));
+    }
+    return value;
+  }
+
+  template <class T>
+  T integer(std::string_view what, T lo, T hi) {
+    const auto token = next();
+    if (!token) fail(fmt::format("the section ends where {} was expected", what));
+    return parse_integer<T>(*token, what, lo, hi);
+  }
+
+  double real(std::string_view what) {
+    const auto token = next();
+    if (!token) fail(fmt::format("the section ends where {} was expected", what));
+    double value = 0.0;
+    std::string_view s = *token;
+    if (s.size() > 1 && s.front() == '+') s.remove_prefix(1);
+    const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+    if (ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(value)) {
+      fail(fmt::format("expected {} (a finite number), got '{}'", what, token->substr(0, 40)));
+    }
+    return value;
+  }
+
+  void expect_end() {
+    if (const auto token = next()) {
+      fail(fmt::format("unexpected '{}' after the last entry (the counts do not match the data)",
+                       token->substr(0, 40)));
+    }
+  }
+
+ private:
+  const fs::path& file_;
+  std::string section_;
+  const std::vector<MshLine>& lines_;
+  std::size_t line_, end_;
+  std::size_t pos_ = 0;
+  std::size_t last_line_;
+};
+
+constexpr std::size_t kMaxTag = std::size_t{1} << 62;
+constexpr long long kMaxCount = 1LL << 40;
+
+struct MshModel {
+  std::array<std::set<int>, 4> entities;  ///< entity tags per dimension (from $Entities)
+  bool has_entities = false;
+  std::unordered_set<std::size_t> nodes;
+  bool has_nodes = false;
+};
+
+void read_physical_names(SectionReader& r) {
+  const auto first = r.next_line();
+  if (!first) r.fail("the section is empty; expected the number of names");
+  const std::string_view count_text = *first;
+  const int count = r.parse_integer<int>(
+      count_text.substr(count_text.find_first_not_of(" \t")), "the number of names", 0, 1 << 30);
+  std::set<std::pair<int, int>> seen;
+  for (int i = 0; i < count; ++i) {
+    const auto line = r.next_line();
+    if (!line) {
+      r.fail(fmt::format("the section holds {} name(s), its first line announces {}", i, count));
+    }
+    // DIM TAG "NAME" on one line
+    std::string_view rest = *line;
+    auto word = [&rest]() {
+      const std::size_t b = rest.find_first_not_of(" \t");
+      if (b == std::string_view::npos) {
+        rest = {};
+        return std::string_view{};
+      }
+      rest.remove_prefix(b);
+      const std::size_t e = std::min(rest.find_first_of(" \t"), rest.size());
+      const std::string_view w = rest.substr(0, e);
+      rest.remove_prefix(e);
+      return w;
+    };
+    const int dim = r.parse_integer<int>(word(), "a dimension", 0, 3);
+    const int tag = r.parse_integer<int>(word(), "a physical tag", 1,
+                                         std::numeric_limits<int>::max());
+    const std::size_t b = rest.find_first_not_of(" \t");
+    const std::string_view name = b == std::string_view::npos ? std::string_view{} : rest.substr(b);
+    if (name.size() < 2 || name.front() != '"' || name.back() != '"' ||
+        name.substr(1, name.size() - 2).find('"') != std::string_view::npos) {
+      r.fail(fmt::format("expected a quoted name after '{} {}', got '{}'", dim, tag,
+                         name.substr(0, 40)));
+    }
+    if (name.size() - 2 > 255) r.fail("a name is longer than 255 characters");
+    if (!seen.emplace(dim, tag).second) {
+      r.fail(fmt::format("physical group {} of dimension {} is named twice", tag, dim));
+    }
+  }
+  if (r.next_line()) {
+    r.fail(fmt::format("more names than the {} its first line announces", count));
+  }
+}
+
+void read_entities(SectionReader& r, MshModel& model) {
+  std::array<long long, 4> counts{};
+  for (int d = 0; d < 4; ++d) {
+    counts[static_cast<std::size_t>(d)] = r.integer<long long>(
+        std::array<const char*, 4>{"the number of points", "the number of curves",
+                                   "the number of surfaces", "the number of volumes"}
+            [static_cast<std::size_t>(d)],
+        0, kMaxCount);
+  }
+  for (int d = 0; d < 4; ++d) {
+    for (long long i = 0; i < counts[static_cast<std::size_t>(d)]; ++i) {
+      const int tag = r.integer<int>("an entity tag", 1, std::numeric_limits<int>::max());
+      if (!model.entities[static_cast<std::size_t>(d)].insert(tag).second) {
+        r.fail(fmt::format("entity {} of dimension {} is defined twice", tag, d));
+      }
+      for (int c = 0; c < (d == 0 ? 3 : 6); ++c) r.real("a coordinate");
+      const int physicals = r.integer<int>("the number of physical tags", 0, 1 << 20);
+      for (int p = 0; p < physicals; ++p) {
+        r.integer<int>("a physical tag", std::numeric_limits<int>::min() + 1,
+                       std::numeric_limits<int>::max());
+      }
+      if (d == 0) continue;
+      const int bounding = r.integer<int>("the number of bounding entities", 0, 1 << 24);
+      for (int b = 0; b < bounding; ++b) {
+        const int btag = r.integer<int>("a bounding entity tag", std::numeric_limits<int>::min() + 1,
+                                        std::numeric_limits<int>::max());
+        if (!model.entities[static_cast<std::size_t>(d - 1)].count(std::abs(btag))) {
+          r.fail(fmt::format("entity {} of dimension {} is bounded by entity {} of dimension "
+                             "{}, which is not defined",
+                             tag, d, std::abs(btag), d - 1));
+        }
+      }
+    }
+  }
+  r.expect_end();
+  model.has_entities = true;
+}
+
+void check_entity(SectionReader& r, const MshModel& model, int dim, int tag) {
+  if (model.has_entities && !model.entities[static_cast<std::size_t>(dim)].count(tag)) {
+    r.fail(fmt::format("a block refers to entity {} of dimension {}, which $Entities does not "
+                       "define",
+                       tag, dim));
+  }
+}
+
+void read_nodes(SectionReader& r, MshModel& model) {
+  const auto blocks = r.integer<long long>("the number of node blocks", 0, kMaxCount);
+  const auto total = r.integer<long long>("the number of nodes", 0, kMaxCount);
+  const auto min_tag = r.integer<std::size_t>("the smallest node tag", 0, kMaxTag);
+  const auto max_tag = r.integer<std::size_t>("the largest node tag", 0, kMaxTag);
+  if (total > 0 && (min_tag < 1 || max_tag < min_tag ||
+                    max_tag - min_tag + 1 < static_cast<std::size_t>(total))) {
+    r.fail(fmt::format("{} nodes cannot have tags {} to {}", total, min_tag, max_tag));
+  }
+  long long seen = 0;
+  for (long long b = 0; b < blocks; ++b) {
+    const int dim = r.integer<int>("an entity dimension", 0, 3);
+    const int tag = r.integer<int>("an entity tag", 1, std::numeric_limits<int>::max());
+    const int parametric = r.integer<int>("the parametric flag", 0, 1);
+    const auto count = r.integer<long long>("the number of nodes of a block", 0, total - seen);
+    check_entity(r, model, dim, tag);
+    for (long long i = 0; i < count; ++i) {
+      const auto node = r.integer<std::size_t>("a node tag", std::max<std::size_t>(min_tag, 1),
+                                               max_tag);
+      if (!model.nodes.insert(node).second) r.fail(fmt::format("node {} is defined twice", node));
+    }
+    const int values = 3 + (parametric ? dim : 0);
+    for (long long i = 0; i < count * values; ++i) r.real("a node coordinate");
+    seen += count;
+  }
+  if (seen != total) {
+    r.fail(fmt::format("the header announces {} nodes, the blocks hold {}", total, seen));
+  }
+  r.expect_end();
+  model.has_nodes = true;
+}
+
+void read_elements(SectionReader& r, const MshModel& model) {
+  if (!model.has_nodes) r.fail("$Elements comes before $Nodes");
+  const auto blocks = r.integer<long long>("the number of element blocks", 0, kMaxCount);
+  const auto total = r.integer<long long>("the number of elements", 0, kMaxCount);
+  const auto min_tag = r.integer<std::size_t>("the smallest element tag", 0, kMaxTag);
+  const auto max_tag = r.integer<std::size_t>("the largest element tag", 0, kMaxTag);
+  if (total > 0 && (min_tag < 1 || max_tag < min_tag ||
+                    max_tag - min_tag + 1 < static_cast<std::size_t>(total))) {
+    r.fail(fmt::format("{} elements cannot have tags {} to {}", total, min_tag, max_tag));
+  }
+  std::unordered_set<std::size_t> tags;
+  long long seen = 0;
+  for (long long b = 0; b < blocks; ++b) {
+    const int dim = r.integer<int>("an entity dimension", 0, 3);
+    const int tag = r.integer<int>("an entity tag", 1, std::numeric_limits<int>::max());
+    const int type = r.integer<int>("an element type", 1, 1000);
+    int type_dim = -1;
+    const int nodes = msh_element_node_count(type, &type_dim);
+    if (nodes == 0) r.fail(fmt::format("unknown element type {}", type));
+    if (type_dim != dim) {
+      r.fail(fmt::format("elements of type {} ({}-D) in a block of dimension {}", type,
+                         type_dim, dim));
+    }
+    check_entity(r, model, dim, tag);
+    const auto count = r.integer<long long>("the number of elements of a block", 0, total - seen);
+    for (long long i = 0; i < count; ++i) {
+      const auto element = r.integer<std::size_t>(
+          "an element tag", std::max<std::size_t>(min_tag, 1), max_tag);
+      if (!tags.insert(element).second) {
+        r.fail(fmt::format("element {} is defined twice", element));
+      }
+      for (int k = 0; k < nodes; ++k) {
+        const auto node = r.integer<std::size_t>("a node tag", 1, kMaxTag);
+        if (!model.nodes.count(node)) {
+          r.fail(fmt::format("element {} uses node {}, which $Nodes does not define", element,
+                             node));
+        }
+      }
+    }
+    seen += count;
+  }
+  if (seen != total) {
+    r.fail(fmt::format("the header announces {} elements, the blocks hold {}", total, seen));
+  }
+  r.expect_end();
+}
+
+}  // namespace
+
+int msh_element_node_count(int gmsh_type, int* dim) {
+  struct Type {
+    int nodes, dim;
+  };
+  // Gmsh's element types 1..31 (GmshDefines.h: MSH_LIN_2 ... MSH_TET_56), 92 and 93.
+  static constexpr std::array<Type, 32> types = {{
+      {0, -1},  {2, 1},  {3, 2},  {4, 2},  {4, 3},  {8, 3},  {6, 3},  {5, 3},
+      {3, 1},   {6, 2},  {9, 2},  {10, 3}, {27, 3}, {18, 3}, {14, 3}, {1, 0},
+      {8, 2},   {20, 3}, {15, 3}, {13, 3}, {9, 2},  {10, 2}, {12, 2}, {15, 2},
+      {15, 2},  {21, 2}, {4, 1},  {5, 1},  {6, 1},  {20, 3}, {35, 3}, {56, 3},
+  }};
+  Type t{0, -1};
+  if (gmsh_type >= 1 && gmsh_type < static_cast<int>(types.size())) {
+    t = types[static_cast<std::size_t>(gmsh_type)];
+  } else if (gmsh_type == 92) {
+    t = {64, 3};
+  } else if (gmsh_type == 93) {
+    t = {125, 3};
+  }
+  if (dim) *dim = t.dim;
+  return t.nodes;
+}
+
+void check_geo_script(const fs::path& file) {
+  GeoScanner scanner{folder_of(file), {}};
+  scanner.scan(file);
+}
+
+void check_msh_file(const fs::path& file) {
+  const std::string text = read_text(file);
+  const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
+  if (std::all_of(text.begin(), text.end(), blank)) {
+    throw_input_error("{}: empty file; expected a Gmsh mesh: {}", file.string(),
+                      kMshFix);
+  }
+  const std::vector<MshLine> lines = split_lines(text);
+  if (lines.empty() || lines[0].text != "$MeshFormat") {
+    throw_input_error("{}:1: not a Gmsh mesh file (it does not start with $MeshFormat); a .msh "
+                      "must be a mesh written by Gmsh (format 4.1), a geometry script is given "
+                      "as 'geo:' with a .geo name",
+                      file.string());
+  }
+  if (lines.size() < 3) {
+    throw_input_error("{}: damaged $MeshFormat section (line 2): the file ends inside it; {}",
+                      file.string(), kMshFix);
+  }
+  {
+    std::istringstream header{std::string(lines[1].text)};
+    std::string version, extra;
+    int file_type = -1, data_size = -1;
+    if (!(header >> version >> file_type >> data_size) || (header >> extra)) {
+      throw_input_error("{}: damaged $MeshFormat section (line 2): expected 'VERSION "
+                        "FILE-TYPE DATA-SIZE', got '{}'; {}",
+                        file.string(), lines[1].text, kMshFix);
+    }
+    if (file_type == 1) {
+      throw_input_error("{}: binary .msh files are not supported (they cannot be checked "
+                        "before Gmsh reads them); re-export the mesh from Gmsh as ASCII "
+                        "(option Mesh.Binary = 0, format 4.1)",
+                        file.string());
+    }
+    if (version != "4.1" || file_type != 0) {
+      throw_input_error("{}: .msh format '{}' (file type {}) is not supported; re-export the "
+                        "mesh from Gmsh in format 4.1 ASCII (Mesh.MshFileVersion = 4.1)",
+                        file.string(), version, file_type);
+    }
+    if (data_size != static_cast<int>(sizeof(double))) {
+      throw_input_error("{}: damaged $MeshFormat section (line 2): data size {}, expected {}; {}",
+                        file.string(), data_size, sizeof(double), kMshFix);
+    }
+    if (lines[2].text != "$EndMeshFormat") {
+      throw_input_error("{}: damaged $MeshFormat section (line 3): expected $EndMeshFormat, got "
+                        "'{}'; {}",
+                        file.string(), lines[2].text, kMshFix);
+    }
+  }
+
+  MshModel model;
+  std::set<std::string> done;
+  std::size_t i = 3;
+  while (i < lines.size()) {
+    const MshLine& head = lines[i];
+    if (head.text.empty()) {
+      ++i;
+      continue;
+    }
+    if (head.text.front() != '$' || head.text.starts_with("$End")) {
+      throw_input_error("{}: unexpected '{}' at line {} outside of a section (each section is "
+                        "$Name ... $EndName); {}",
+                        file.string(), head.text.substr(0, 40), head.number, kMshFix);
+    }
+    const std::string name(head.text.substr(1));
+    const std::string end_marker = "$End" + name;
+    std::size_t end = i + 1;
+    while (end < lines.size() && !(lines[end].text.starts_with("$"))) ++end;
+    if (end >= lines.size()) {
+      throw_input_error("{}: damaged ${} section (line {}): no {} line; {}", file.string(), name,
+                        head.number, end_marker, kMshFix);
+    }
+    if (lines[end].text != end_marker) {
+      throw_input_error("{}: damaged ${} section (line {}): expected {}, got '{}'; {}",
+                        file.string(), name, lines[end].number, end_marker,
+                        lines[end].text.substr(0, 40), kMshFix);
+    }
+    static const std::set<std::string> checked = {"PhysicalNames", "Entities", "Nodes",
+                                                  "Elements"};
+    static const std::set<std::string> unsupported = {
+        "MeshFormat",  "PartitionedEntities", "Periodic",       "GhostElements",
+        "Parametrizations", "NodeData",       "ElementData",    "ElementNodeData",
+        "InterpolationScheme", "Comments"};
+    if (!checked.count(name)) {
+      throw_input_error(
+          "{}: {} section ${} at line {}; shellflow reads meshes with the sections "
+          "$MeshFormat, $PhysicalNames, $Entities, $Nodes and $Elements only: {}",
+          file.string(), unsupported.count(name) ? "unsupported" : "unknown", name, head.number,
+          kMshFix);
+    }
+    if (!done.insert(name).second) {
+      throw_input_error("{}: a second ${} section at line {}; {}", file.string(), name,
+                        head.number, kMshFix);
+    }
+    SectionReader reader(file, name, lines, i + 1, end);
+    if (name == "PhysicalNames") {
+      read_physical_names(reader);
+    } else if (name == "Entities") {
+      if (done.count("Nodes")) reader.fail("$Entities comes after $Nodes");
+      read_entities(reader, model);
+    } else if (name == "Nodes") {
+      read_nodes(reader, model);
+    } else {
+      read_elements(reader, model);
+    }
+    i = end + 1;
+  }
+}
+
+void check_gmsh_input(const fs::path& file) {
+  const std::string ext = extension_of(file);
+  if (ext == ".msh") {
+    check_msh_file(file);
+  } else if (ext == ".geo") {
+    check_geo_script(file);
+  } else if (!is_cad_extension(ext)) {
+    throw_input_error("{}: Gmsh would read a '{}' file as a script or in an unchecked format; "
+                      "give a .geo script, a .msh mesh (format 4.1) or a STEP/IGES/BREP file",
+                      file.string(), ext.empty() ? std::string("(no extension)") : ext);
+  }
+  check_gmsh_option_files(file);
+}
+
+void check_gmsh_option_files(const fs::path& file) {
+  GeoScanner scanner{folder_of(file), {}};
+  scanner.scan_option_files(file);
+}
+
+}  // namespace shellflow::mesh
