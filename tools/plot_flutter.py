@@ -18,26 +18,37 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def extrema(t, w):
-    """Extrema of w refined by a parabola through the sample and its neighbours."""
+def extrema(t, w, t0=-math.inf, t1=math.inf):
+    """One extremum per half-cycle in [t0, t1] (the largest |w| between sign changes; the
+    first and last, cut by the window, dropped), refined by a parabola through the sample
+    and its neighbours (as coupling::fit_response)."""
+    seg = []
+    for i in range(len(w)):
+        if t[i] < t0 or t[i] > t1 or w[i] == 0.0:
+            continue
+        pos = w[i] > 0
+        if not seg or seg[-1][1] != pos:
+            seg.append([i, pos])
+        elif abs(w[i]) > abs(w[seg[-1][0]]):
+            seg[-1][0] = i
     out = []
-    for i in range(1, len(w) - 1):
-        if not ((w[i] > w[i - 1] and w[i] >= w[i + 1]) or (w[i] < w[i - 1] and w[i] <= w[i + 1])):
+    for i, _ in seg[1:-1]:
+        if i == 0 or i + 1 >= len(w):
             continue
         h0, h1 = t[i] - t[i - 1], t[i + 1] - t[i]
         d0, d1 = (w[i] - w[i - 1]) / h0, (w[i + 1] - w[i]) / h1
         a = (d1 - d0) / (h0 + h1)
         b = d0 + a * h0
         tp, wp = t[i], w[i]
-        if a != 0.0 and abs(-b / (2 * a)) <= max(h0, h1):
+        if a != 0.0 and abs(b / (2 * a)) <= max(h0, h1):
             s = -b / (2 * a)
             tp, wp = t[i] + s, w[i] + b * s + a * s * s
-        if wp != 0.0:
-            out.append((tp, wp))
+        out.append((tp, wp))
     return out
 
 
 def fit_growth(peaks):
+    """(growth rate, log-amplitude intercept, frequency) of the extrema, or None."""
     n = len(peaks)
     if n < 3:
         return None
@@ -73,7 +84,7 @@ def main():
         w = [float(r[header.index(name)]) for r in data]
         ax.plot(t, [100 * v for v in w], label=name)
         ax2.semilogy(t, [abs(v) for v in w], lw=0.6, label=f"|{name}|")
-        peaks = [p for p in extrema(t, w) if p[0] >= args.start]
+        peaks = extrema(t, w, args.start)
         fit = fit_growth(peaks)
         if fit:
             sigma, c, freq = fit

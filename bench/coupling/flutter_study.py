@@ -11,7 +11,6 @@ usage: flutter_study.py [--exe build/release/app/shellflow] [--out out/flutter_s
 """
 import argparse
 import csv
-import math
 import os
 import re
 import subprocess
@@ -22,42 +21,13 @@ ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 CASES = os.path.join(ROOT, "cases", "panel_flutter")
 
 
-def extrema(t, w, t0, t1):
-    """One extremum per half-cycle (largest |w| between sign changes), parabola-refined."""
-    seg = []
-    for i in range(len(w)):
-        if t[i] < t0 or t[i] > t1 or w[i] == 0.0:
-            continue
-        pos = w[i] > 0
-        if not seg or seg[-1][1] != pos:
-            seg.append([i, pos])
-        elif abs(w[i]) > abs(w[seg[-1][0]]):
-            seg[-1][0] = i
-    out = []
-    for i, _ in seg[1:-1]:
-        if i == 0 or i + 1 >= len(w):
-            continue
-        h0, h1 = t[i] - t[i - 1], t[i + 1] - t[i]
-        d0, d1 = (w[i] - w[i - 1]) / h0, (w[i + 1] - w[i]) / h1
-        a = (d1 - d0) / (h0 + h1)
-        b = d0 + a * h0
-        tp, wp = t[i], w[i]
-        if a != 0 and abs(b / (2 * a)) <= max(h0, h1):
-            s = -b / (2 * a)
-            tp, wp = t[i] + s, w[i] + b * s + a * s * s
-        out.append((tp, wp))
-    return out
+sys.path.insert(0, os.path.join(ROOT, "tools"))
+from plot_flutter import extrema, fit_growth  # noqa: E402  (one peak finder for plots and studies)
 
 
 def growth(peaks):
-    n = len(peaks)
-    if n < 3:
-        return float("nan"), float("nan")
-    xs = [p[0] for p in peaks]
-    ys = [math.log(abs(p[1])) for p in peaks]
-    mx, my = sum(xs) / n, sum(ys) / n
-    sigma = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
-    return sigma, (n - 1) / (2 * (xs[-1] - xs[0]))
+    fit = fit_growth(peaks)
+    return (fit[0], fit[2]) if fit else (float("nan"), float("nan"))
 
 
 def run(exe, out, name, source, edits, end=None):

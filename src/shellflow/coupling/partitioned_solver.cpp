@@ -5,40 +5,22 @@
 #include <chrono>
 
 #include "shellflow/core/error.h"
-#include "shellflow/fem/reference_element.h"
 
 namespace shellflow::coupling {
 
 PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSolver& shell,
                                      AerodynamicModel& flow, ShellStepMotion& motion,
                                      PartitionedOptions options)
-    : model_(model), shell_(shell), flow_(flow), motion_(motion), options_(options) {
+    : model_(model), shell_(shell), flow_(flow), motion_(motion), options_(options), basis_(model) {
   const std::size_t n = model.load_points().size();
   current_.assign(n, 0.0);
+  next_.assign(n, 0.0);
+  previous_.assign(n, 0.0);  // the three rotate every step: all of size n
   applied_.assign(n, 0.0);
   point_pressure_.assign(n, 0.0);
   if (flow.sign().size() != n)
     throw Error(fmt::format("coupling: the aerodynamic model has {} load points, the shell {}",
                             flow.sign().size(), n));
-  // Load-point geometry for the force balance in the current configuration.
-  const mesh::Mesh& m = model.mesh();
-  const fem::ReferenceElement& ref = fem::reference_element(static_cast<int>(m.cells.type));
-  n_ = ref.num_nodes;
-  const auto nn = static_cast<std::size_t>(n_);
-  dphi_.resize(2 * nn * n);
-  plane_weight_.resize(n);
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto& lp = model.load_points()[k];
-    const double xi[2] = {lp.point.xi.x(), lp.point.xi.y()};
-    ref.eval_gradients(xi, dphi_.data() + 2 * nn * k);
-    Vec3 X1 = Vec3::Zero(), X2 = Vec3::Zero();
-    const auto conn = m.cells.element(lp.point.element);
-    for (std::size_t a = 0; a < nn; ++a) {
-      X1 += dphi_[2 * nn * k + 2 * a] * m.nodes[std::size_t(conn[a])];
-      X2 += dphi_[2 * nn * k + 2 * a + 1] * m.nodes[std::size_t(conn[a])];
-    }
-    plane_weight_[k] = lp.weight / X1.cross(X2).norm();
-  }
   motion_.set_state(shell.time(), shell.displacement(), shell.velocity());
   flow_.pressure_rise(shell.displacement(), shell.velocity(), current_);
   if (!options_.monolithic) {
@@ -65,20 +47,10 @@ void PartitionedSolver::apply_loads() {
 Vec3 PartitionedSolver::shell_side_force(std::span<const double> dp) const {
   const auto sign = flow_.sign();
   const auto& points = model_.load_points();
-  const mesh::Mesh& m = model_.mesh();
-  const Eigen::VectorXd& u = shell_.displacement();
-  const auto nn = static_cast<std::size_t>(n_);
-  Vec3 f = Vec3::Zero();
+  Vec3 f = Vec3::Zero(), x1, x2;
   for (std::size_t k = 0; k < points.size(); ++k) {
-    Vec3 x1 = Vec3::Zero(), x2 = Vec3::Zero();
-    const auto conn = m.cells.element(points[k].point.element);
-    for (std::size_t a = 0; a < nn; ++a) {
-      const auto j = std::size_t(conn[a]);
-      const Vec3 x = m.nodes[j] + u.segment<3>(shell::dofs_per_node * Eigen::Index(j));
-      x1 += dphi_[2 * nn * k + 2 * a] * x;
-      x2 += dphi_[2 * nn * k + 2 * a + 1] * x;
-    }
-    f += (-sign[k] * dp[k] * plane_weight_[k]) * x1.cross(x2);
+    basis_.tangents(model_, k, &shell_.displacement(), x1, x2);
+    f += (-sign[k] * dp[k] * basis_.plane_weight[k]) * x1.cross(x2);
   }
   return f;
 }
@@ -86,7 +58,6 @@ Vec3 PartitionedSolver::shell_side_force(std::span<const double> dp) const {
 CouplingStepReport PartitionedSolver::step(double dt) {
   CouplingStepReport report;
   const shell::NewmarkState start = shell_.state();
-  std::vector<double> next(current_.size());
   using Clock = std::chrono::steady_clock;
   const auto seconds = [](Clock::time_point a) { return std::chrono::duration<double>(Clock::now() - a).count(); };
   for (int k = 1;; ++k) {
@@ -104,7 +75,7 @@ CouplingStepReport PartitionedSolver::step(double dt) {
       throw;
     }
     c = Clock::now();
-    flow_.pressure_rise(shell_.displacement(), shell_.velocity(), next);
+    flow_.pressure_rise(shell_.displacement(), shell_.velocity(), next_);
     report.transfer_seconds += seconds(c);
     report.coupling_iterations = k;
     if (k >= options_.max_iterations) break;
@@ -113,7 +84,7 @@ CouplingStepReport PartitionedSolver::step(double dt) {
     throw Error("coupling: implicit iterations (max_iterations > 1) are not implemented yet");
   }
   previous_.swap(current_);
-  current_.swap(next);
+  current_.swap(next_);
   has_previous_ = true;
   report.time = shell_.time();
   const auto c = Clock::now();

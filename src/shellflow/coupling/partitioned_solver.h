@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "shellflow/coupling/aerodynamics.h"
+#include "shellflow/coupling/load_point_basis.h"
 #include "shellflow/coupling/shell_motion.h"
 #include "shellflow/shell/newmark_solver.h"
 #include "shellflow/shell/shell_model.h"
@@ -72,11 +73,9 @@ class PartitionedSolver {
   AerodynamicModel& flow_;
   ShellStepMotion& motion_;
   PartitionedOptions options_;
-  std::vector<double> current_, previous_, applied_, point_pressure_;
+  std::vector<double> current_, previous_, next_, applied_, point_pressure_;
   bool has_previous_ = false;
-  int n_ = 0;                       ///< nodes per element
-  std::vector<double> dphi_;        ///< per load point: shape-function derivatives (2 n)
-  std::vector<double> plane_weight_;  ///< per load point: quadrature weight w_q
+  LoadPointBasis basis_;  ///< for the force balance in the current configuration
 };
 
 }  // namespace shellflow::coupling

@@ -3,12 +3,11 @@
 #include <cmath>
 
 #include "shellflow/core/error.h"
-#include "shellflow/fem/reference_element.h"
 
 namespace shellflow::coupling {
 
 PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow)
-    : model_(model), flow_(flow) {
+    : model_(model), flow_(flow), basis_(model) {
   if (!(flow_.mach > 1.0) || !std::isfinite(flow_.mach))
     throw_input_error("piston theory needs a supersonic free stream, got Mach {}; use "
                       "fluid.model: euler below Mach 1", flow_.mach);
@@ -22,30 +21,16 @@ PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow
   q_stiffness_ = flow_.density * flow_.speed * flow_.speed / beta;
   q_damping_ = flow_.density * flow_.speed * (m2 - 2.0) / ((m2 - 1.0) * beta);
 
-  const mesh::Mesh& m = model.mesh();
-  const fem::ReferenceElement& ref = fem::reference_element(static_cast<int>(m.cells.type));
-  n_ = ref.num_nodes;
-  const auto n = static_cast<std::size_t>(n_);
+  const auto n = static_cast<std::size_t>(basis_.n);
   const auto& points = model.load_points();
-  nodes_.resize(n * points.size());
-  phi_.resize(n * points.size());
   dphi_dx_.resize(n * points.size());
   normal_.resize(points.size());
   sign_.resize(points.size());
-  std::vector<double> dN(2 * n);
   for (std::size_t k = 0; k < points.size(); ++k) {
     const auto& lp = points[k];
-    const double xi[2] = {lp.point.xi.x(), lp.point.xi.y()};
-    ref.eval(xi, phi_.data() + n * k);
-    ref.eval_gradients(xi, dN.data());
-    const auto conn = m.cells.element(lp.point.element);
-    Vec3 X1 = Vec3::Zero(), X2 = Vec3::Zero();
-    for (std::size_t a = 0; a < n; ++a) {
-      const Vec3& X = m.nodes[static_cast<std::size_t>(conn[a])];
-      X1 += dN[2 * a] * X;
-      X2 += dN[2 * a + 1] * X;
-      nodes_[n * k + a] = conn[a];
-    }
+    const double* dN = basis_.dphi.data() + 2 * n * k;
+    Vec3 X1, X2;
+    basis_.tangents(model, k, nullptr, X1, X2);
     // Surface gradient: grad phi = g^{ab} phi_,a X_b; its component along the flow.
     Eigen::Matrix2d g;
     g << X1.dot(X1), X1.dot(X2), X1.dot(X2), X2.dot(X2);
@@ -60,13 +45,13 @@ PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow
 
 void PistonTheory::pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
                                  std::span<double> dp) const {
-  const auto n = static_cast<std::size_t>(n_);
+  const auto n = static_cast<std::size_t>(basis_.n);
   for (std::size_t k = 0; k < normal_.size(); ++k) {
     Vec3 du_dx = Vec3::Zero(), vel = Vec3::Zero();
     for (std::size_t a = 0; a < n; ++a) {
-      const Eigen::Index row = shell::dofs_per_node * nodes_[n * k + a];
+      const Eigen::Index row = shell::dofs_per_node * basis_.nodes[n * k + a];
       du_dx += dphi_dx_[n * k + a] * u.segment<3>(row);
-      vel += phi_[n * k + a] * v.segment<3>(row);
+      vel += basis_.phi[n * k + a] * v.segment<3>(row);
     }
     dp[k] = q_stiffness_ * normal_[k].dot(du_dx) + q_damping_ * normal_[k].dot(vel);
   }
@@ -77,18 +62,18 @@ void PistonTheory::matrices(shell::SparseMatrix& A, shell::SparseMatrix& D) cons
   D = model_.make_matrix();
   A.coeffs().setZero();
   D.coeffs().setZero();
-  const auto n = static_cast<std::size_t>(n_);
+  const auto n = static_cast<std::size_t>(basis_.n);
   const auto& points = model_.load_points();
   for (std::size_t k = 0; k < points.size(); ++k) {
     const Vec3& N = points[k].normal;
     const Mat3 NN = N * N.transpose();
     const double w = points[k].weight;
     for (std::size_t j = 0; j < n; ++j) {
-      const Eigen::Index rj = shell::dofs_per_node * nodes_[n * k + j];
+      const Eigen::Index rj = shell::dofs_per_node * basis_.nodes[n * k + j];
       for (std::size_t l = 0; l < n; ++l) {
-        const Eigen::Index cl = shell::dofs_per_node * nodes_[n * k + l];
-        const double a = q_stiffness_ * w * phi_[n * k + j] * dphi_dx_[n * k + l];
-        const double d = q_damping_ * w * phi_[n * k + j] * phi_[n * k + l];
+        const Eigen::Index cl = shell::dofs_per_node * basis_.nodes[n * k + l];
+        const double a = q_stiffness_ * w * basis_.phi[n * k + j] * dphi_dx_[n * k + l];
+        const double d = q_damping_ * w * basis_.phi[n * k + j] * basis_.phi[n * k + l];
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) {
             if (NN(r, c) == 0.0) continue;

@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 
 #include "shellflow/core/types.h"
+#include "shellflow/coupling/load_point_basis.h"
 #include "shellflow/shell/shell_model.h"
 
 namespace shellflow::coupling {
@@ -51,9 +52,7 @@ class PistonTheory {
   const shell::ShellModel& model_;
   PistonTheoryFlow flow_;
   double q_stiffness_ = 0.0, q_damping_ = 0.0;
-  int n_ = 0;  ///< nodes per element
-  std::vector<Index> nodes_;     ///< n per load point
-  std::vector<double> phi_;      ///< n per load point
+  LoadPointBasis basis_;
   std::vector<double> dphi_dx_;  ///< n per load point: surface derivative along the flow
   std::vector<Vec3> normal_;     ///< wetted-face normal sign_k N_k (into the flow)
   std::vector<double> sign_;
