@@ -13,7 +13,7 @@
 namespace shellflow::app {
 
 int mesh_command(const CommonOptions& options, bool json) {
-  const io::Case c = io::read_case(options.case_file);
+  const io::Case c = read_case(options);
   const auto outdir = prepare_output_dir(c, options);
   spdlog::info("meshing {} into {}", options.case_file.string(), outdir.string());
   const io::CaseMeshes meshes = io::load_case_meshes(c, outdir);

@@ -76,7 +76,7 @@ InitialState initial_state(const io::Case& c, const io::CaseMeshes& meshes) {
 }  // namespace
 
 int run_command(const CommonOptions& options) {
-  const io::Case c = io::read_case(options.case_file);
+  const io::Case c = read_case(options);
   const auto outdir = prepare_output_dir(c, options);
   spdlog::info("case '{}' -> {}", c.name, outdir.string());
   const io::CaseMeshes meshes = io::load_case_meshes(c, outdir);

@@ -5,12 +5,16 @@
 
 #include <chrono>
 #include <cmath>
+#include <exception>
+#include <fstream>
+#include <functional>
 #include <optional>
 
 #include "commands.h"
 #include "field_writers.h"
 #include "time_loop.h"
 #include "shellflow/core/error.h"
+#include "shellflow/coupling/response.h"
 #include "shellflow/io/mesh_output.h"
 #include "shellflow/io/probe_writer.h"
 #include "shellflow/io/pvd_writer.h"
@@ -101,6 +105,8 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
                  std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir,
                  bool plot) {
   const auto t_setup = Clock::now();
+  // Before the setup: an unknown coupling.response.probe fails the run at once.
+  const std::optional<std::size_t> response_index = io::response_probe(c);
   setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
   const bool has_flow = c.fluid.has_value();
   spdlog::info("coupled run: shell {} nodes / {} load points, aerodynamics '{}'{}, {}",
@@ -128,6 +134,33 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
                                 "fluid_force_x", "fluid_force_y", "fluid_force_z", "force_balance"});
   double setup_seconds = seconds_since(t_setup);
 
+  // The response probe's history, for OUTDIR/response.json at the end.
+  std::vector<double> response_t, response_w;
+  const auto write_response = [&] {
+    if (!response_index) {
+      spdlog::info("no response analysis: the case has no probe of shell.displacement; name the probe "
+                   "to analyse in coupling.response.probe");
+      return;
+    }
+    const io::ResponseSection& rs = c.coupling->response;
+    const std::string& name = c.probes[*response_index].name;
+    const coupling::ResponseAnalysis a = coupling::analyse_response(
+        response_t, response_w, {.t_start = rs.t_start, .t_end = rs.t_end, .lco_cycles = rs.lco_cycles});
+    std::ofstream(outdir / "response.json") << coupling::response_to_json(a, name) << '\n';
+    if (a.extrema < 3) {
+      spdlog::info("response of {} on [{:.6g}, {:.6g}] s: {} extrema, too few for a growth rate and a frequency "
+                   "(3 needed)", name, a.t_start, a.t_end, a.extrema);
+      return;
+    }
+    spdlog::info("response of {} on [{:.6g}, {:.6g}] s ({} extrema): growth rate {:.4g} ± {:.2g} 1/s, {:.5g} Hz; {}",
+                 name, a.t_start, a.t_end, a.extrema, a.growth_rate, a.growth_rate_error, a.frequency_hz,
+                 a.lco ? fmt::format("limit cycle amplitude {:.4g} ± {:.2g} at {:.5g} ± {:.2g} Hz (last {} cycles)",
+                                     a.lco->amplitude, a.lco->amplitude_spread, a.lco->frequency_hz,
+                                     a.lco->frequency_spread, a.lco->cycles)
+                       : fmt::format("not saturated (envelope change {:.3g} over the last {} cycles)",
+                                     a.envelope_change, rs.lco_cycles));
+  };
+
   const shell::NewmarkSolver& solver = *s.solver;
   auto record = [&](long step, bool write_fields) {
     const double t = solver.time();
@@ -144,6 +177,11 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
       for (const auto& v : mesh_writer->update())
         if (!(fluid_writer && v.mesh == "fluid")) fields.push_back(v);
     probes.record(t, fields);
+    // (After a failed step the last valid state is recorded again, at a time already seen.)
+    if (response_index && (response_t.empty() || t > response_t.back())) {
+      response_t.push_back(t);
+      response_w.push_back(probes.sample(fields)[*response_index]);
+    }
     if (quality_csv) quality_csv->append(t, mesh_writer->quality());
     if (!write_fields) return;
     shell_writer.write(step, t, solver.displacement());
@@ -158,6 +196,17 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
          transfer_seconds = 0.0;
   long newton_total = 0, substeps_total = 0;
   double worst_balance = 0.0;
+  // A run stopped by an error still writes response.json, of the steps done.
+  struct ResponseOnError {
+    const std::function<void()> write;
+    ~ResponseOnError() {
+      if (std::uncaught_exceptions() == 0) return;
+      try {
+        write();
+      } catch (...) {  // the error on its way out is the one to report
+      }
+    }
+  } response_on_error{write_response};
   run_time_loop(
       {steps, c.output.every, c.time->end, outdir, {}},
       [&](long step) {
@@ -196,6 +245,7 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
                "load transfer {:.2f} s, output {:.2f} s",
                setup_seconds + steps_seconds + output_seconds, setup_seconds, shell_seconds, mesh_seconds,
                flow_seconds, transfer_seconds, output_seconds);
+  write_response();
   if (plot && !c.probes.empty())
     make_plot("plot_flutter.py", {(outdir / "probes.csv").string(), "-o", outdir.string()});
   if (plot && quality_csv)

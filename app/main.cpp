@@ -3,6 +3,7 @@
 //   shellflow mesh  cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR] [--json]
 //   shellflow check cases/panel_flutter/clamped_clamped.yaml
 //   shellflow run   cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR]
+//   shellflow flutter cases/panel_flutter/clamped_clamped_piston.yaml [--parameter mach] [--json]
 //
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
 // exit code is 1 (2 for a bad command line).
@@ -12,6 +13,8 @@
 
 #include <cstdio>
 #include <exception>
+#include <map>
+#include <string>
 
 #include "commands.h"
 #include "shellflow/core/error.h"
@@ -40,6 +43,11 @@ int main(int argc, char** argv) {
     sub->add_option("case", options.case_file, "Case file (YAML); see docs/case-format.md")
         ->required()
         ->check(CLI::ExistingFile);
+    sub->add_option("--set", options.overrides,
+                    "KEY=VALUE: replace a key of the case file (dotted path, YAML value), e.g. --set "
+                    "fluid.free_stream.mach=2.1 --set time.end=0.05; repeatable")
+        ->allow_extra_args(false)
+        ->take_all();
   };
   auto add_output = [&](CLI::App* sub) {
     sub->add_option("-o,--output", options.output_dir,
@@ -65,6 +73,48 @@ int main(int argc, char** argv) {
                "running it");
   add_case(check);
 
+  app::FlutterOptions flutter_options;
+  auto* flutter = cli.add_subcommand(
+      "flutter", "Linear flutter analysis: the case's shell linearised about its reference state with "
+                 "first-order piston theory at the case's free stream; root locus against lambda = "
+                 "rho U^2 a^3/(beta D) or Mach, the critical point (flutter_locus.csv, flutter.json, "
+                 "flutter_locus.png); see docs/flutter.md");
+  add_case(flutter);
+  add_output(flutter);
+  flutter->add_option("--parameter", flutter_options.parameter,
+                      "lambda: sweep lambda at the case's density and Mach; mach: sweep Mach at the case's "
+                      "density and pressure")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, coupling::FlutterParameter>{
+          {"lambda", coupling::FlutterParameter::lambda}, {"mach", coupling::FlutterParameter::mach}}));
+  flutter->add_option("--range", flutter_options.range,
+                      "LO HI of the parameter (default: lambda 0..max(1000, 2 lambda_case), Mach "
+                      "1.2..max(3, 2 M_case), widened up to 8x until a boundary is found)");
+  flutter->add_option("--points", flutter_options.points, "Parameter values of the sweep (the boundary is then "
+                                                          "bisected)")
+      ->check(CLI::Range(2, 100000));
+  flutter->add_option("--modes", flutter_options.modes, "In-vacuo modes of the reduced basis")
+      ->check(CLI::Range(1, 400));
+  flutter->add_flag("--direct", flutter_options.direct,
+                    "Solve the full system (every free dof) instead of the modal basis: dense, O(n^3) per "
+                    "value; for checking the basis on small meshes");
+  flutter->add_flag("--no-aero-damping", flutter_options.no_aerodynamic_damping,
+                    "Drop the aerodynamic damping (mu/M -> 0: the classical coalescence boundary)");
+  flutter->add_flag("--json", flutter_options.json,
+                    "Print one JSON object on stdout (lambda_cr, mach_cr, frequency_hz, ...) and nothing else");
+
+  app::StudyOptions study_options;
+  auto* study = cli.add_subcommand(
+      "study", "Parameter study of a coupled case (its 'study' section: Mach, density, dynamic pressure "
+               "or thickness over a range): one run per point, growth rates from response.json, the "
+               "stability boundary bracketed and refined; study.csv, study.json, study_growth.png, "
+               "study_lco.png; finished points are not rerun");
+  add_case(study);
+  add_output(study);
+  study->add_option("-j,--jobs", study_options.jobs, "Runs at once, one process each (each with one OpenMP thread "
+                                                     "when > 1 unless OMP_NUM_THREADS is set)")
+      ->check(CLI::Range(1, 256));
+  study->add_flag("--json", study_options.json, "Print study.json on stdout and nothing else");
+
   CLI11_PARSE(cli, argc, argv);
   spdlog::set_level(verbose ? spdlog::level::debug
                     : quiet ? spdlog::level::warn
@@ -73,6 +123,8 @@ int main(int argc, char** argv) {
     if (*run) return app::run_command(options);
     if (*mesh) return app::mesh_command(options, json);
     if (*check) return app::check_command(options);
+    if (*flutter) return app::flutter_command(options, flutter_options);
+    if (*study) return app::study_command(options, study_options);
   } catch (const Error& e) {
     std::fprintf(stderr, "shellflow: error: %s\n", e.what());
     return 1;

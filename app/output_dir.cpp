@@ -16,6 +16,12 @@
 
 namespace shellflow::app {
 
+io::Case read_case(const CommonOptions& options) {
+  std::vector<io::KeyOverride> overrides;
+  for (const auto& text : options.overrides) overrides.push_back(io::KeyOverride::parse(text));
+  return io::read_case(options.case_file, overrides);
+}
+
 std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions& options) {
   const auto dir = options.output_dir.value_or(c.output.directory);
   std::error_code ec;

@@ -5,11 +5,17 @@
 //                            interpolation to every fluid node + wall velocity), paper meshes;
 //   BM_FlowStepMoving        one explicit flow step on the moved mesh, paper meshes;
 //   BM_CoupledShellStepEuler one whole shell step of the Euler-coupled run (shell + n_sub
-//                            sub-steps + loads), paper meshes.
+//                            sub-steps + loads), paper meshes;
+//   BM_FlutterBasis          the linear flutter analysis' modal basis (24 in-vacuo modes +
+//                            projected piston-theory matrices) of the reference strip;
+//   BM_FlutterSweep50        its sweep of 50 lambda values + the bisection of the boundary.
 // Median of repetitions: --benchmark_repetitions=5 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
 
+#include <cmath>
+
 #include "shellflow/core/version.h"
+#include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/setup/coupled_setup.h"
 
@@ -85,5 +91,38 @@ void BM_CoupledShellStepEuler(benchmark::State& state) {
 BENCHMARK(BM_CoupledShellStepEuler)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+coupling::FlutterSetting strip_setting(const System& sys) {
+  coupling::FlutterSetting st;
+  st.length = coupling::panel_length(*sys.s.shell, Vec3::UnitX());
+  const auto& m = sys.c.shell->material;
+  st.bending_stiffness = m.young_modulus * std::pow(sys.c.shell->thickness, 3) / (12 * (1 - m.poisson_ratio * m.poisson_ratio));
+  st.density = sys.c.fluid->free_stream.density;
+  st.pressure = sys.c.fluid->free_stream.pressure;
+  st.mach = sys.c.fluid->free_stream.mach;
+  return st;
+}
+
+void BM_FlutterBasis(benchmark::State& state) {
+  System sys("clamped_clamped_piston.yaml");
+  for (auto _ : state) {
+    coupling::LinearFlutterSystem f(*sys.s.shell, sys.s.piston->theory(), 24);
+    benchmark::DoNotOptimize(f);
+  }
+}
+BENCHMARK(BM_FlutterBasis)->Unit(benchmark::kMillisecond);
+
+void BM_FlutterSweep50(benchmark::State& state) {
+  System sys("clamped_clamped_piston.yaml");
+  const coupling::LinearFlutterSystem f(*sys.s.shell, sys.s.piston->theory(), 24);
+  const auto st = strip_setting(sys);
+  int bisections = 0;
+  for (auto _ : state) {
+    const auto r = coupling::sweep_flutter(f, st, coupling::FlutterParameter::lambda, 0.0, 1000.0, 50);
+    bisections = r.critical ? r.critical->bisections : -1;
+  }
+  state.counters["bisections"] = bisections;
+}
+BENCHMARK(BM_FlutterSweep50)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

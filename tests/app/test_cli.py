@@ -226,6 +226,72 @@ class CoupledRuns(unittest.TestCase):
         # Above the flutter boundary the oscillation grows: later peaks are larger.
         self.assertGreater(max(w[200:]), 1.5 * max(w[100:200]))
         self.assertTrue(os.path.getsize(os.path.join(out, "flutter_growth.png")) > 1000)
+        self.assertTrue(os.path.exists(os.path.join(out, "response.json")))  # every coupled run
+
+    def piston_case_with_response(self, response, end="0.08"):
+        text = panel_case_text(os.path.join(ROOT, "cases", "panel_flutter", "clamped_sliding_piston.yaml"))
+        text = text.replace("end: 0.14", "end: " + end)
+        text = re.sub(r"\n  # growth rate[^\n]*\n  response: [^\n]*", "", text)  # the case's own
+        return text.replace("\n  wet_normal:", "\n  response: " + response + "\n  wet_normal:")
+
+    def test_piston_theory_flutter_writes_the_response_analysis(self):
+        text = self.piston_case_with_response("{ probe: w_x0625, window: [0.02, 0.08], lco_cycles: 3 }")
+        out = os.path.join(self.tmp.name, "out")
+        r = shellflow("run", self.write_case(text), "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("response of w_x0625 on [0.02, 0.08] s", r.stderr)
+        with open(os.path.join(out, "response.json")) as f:
+            resp = json.load(f)
+        self.assertEqual(set(resp), {"probe", "window", "frequency_hz", "growth_rate", "growth_rate_error", "extrema",
+                                     "last_amplitude", "envelope_change", "saturated", "lco", "peak_times",
+                                     "peak_values"})
+        self.assertEqual(resp["probe"], "w_x0625")
+        self.assertEqual(resp["window"], [0.02, 0.08])
+        self.assertEqual(len(resp["peak_times"]), resp["extrema"])
+        # Still growing at 0.08 s: no limit cycle.
+        self.assertFalse(resp["saturated"])
+        self.assertIsNone(resp["lco"])
+        self.assertGreater(resp["envelope_change"], 0.5)
+
+        # An independent fit from probes.csv: the largest |w| sample of each half-cycle in the
+        # window (the first and last, cut by the window, dropped), log|w| against t by least
+        # squares; the frequency from the first and last zero crossings (linear interpolation).
+        with open(os.path.join(out, "probes.csv"), newline="") as f:
+            rows = list(csv.reader(f))
+        column = rows[0].index("w_x0625")
+        samples = [(float(row[0]), float(row[column])) for row in rows[1:]]
+        samples = [(t, w) for t, w in samples if 0.02 <= t <= 0.08]
+        halves = []
+        for t, w in samples:
+            if halves and (w > 0) == (halves[-1][1] > 0):
+                if abs(w) > abs(halves[-1][1]):
+                    halves[-1] = (t, w)
+            else:
+                halves.append((t, w))
+        peaks = halves[1:-1]
+        n = len(peaks)
+        mt = sum(t for t, _ in peaks) / n
+        my = sum(math.log(abs(w)) for _, w in peaks) / n
+        sigma = sum((t - mt) * (math.log(abs(w)) - my) for t, w in peaks) / sum((t - mt) ** 2 for t, _ in peaks)
+        crossings = [t0 + (t1 - t0) * w0 / (w0 - w1)
+                     for (t0, w0), (t1, w1) in zip(samples, samples[1:]) if w0 * w1 < 0]
+        frequency = (len(crossings) - 1) / (2 * (crossings[-1] - crossings[0]))
+        self.assertEqual(resp["extrema"], n)
+        self.assertGreater(sigma, 40)  # flutter (the linear eigenvalue is 51.6 1/s)
+        self.assertLess(abs(resp["growth_rate"] / sigma - 1), 0.01, (resp["growth_rate"], sigma))
+        self.assertLess(abs(resp["frequency_hz"] / frequency - 1), 0.002, (resp["frequency_hz"], frequency))
+        self.assertGreater(resp["growth_rate_error"], 0)
+        self.assertLess(resp["growth_rate_error"], 0.05 * sigma)
+        self.assertTrue(os.path.getsize(os.path.join(out, "flutter.png")) > 1000)
+
+    def test_an_unknown_response_probe_names_the_key_and_the_probes(self):
+        self.assert_run_error(self.piston_case_with_response("{ probe: w_x06 }", end="0.001"),
+                              "coupling.response.probe", "'w_x06'", "w_x0600, w_x0625")
+
+    def test_a_response_window_must_increase_and_lco_cycles_be_positive(self):
+        self.assert_run_error(self.piston_case_with_response("{ window: [0.08, 0.02] }"),
+                              "coupling.response.window", "t_start < t_end")
+        self.assert_run_error(self.piston_case_with_response("{ lco_cycles: 0 }"), "coupling.response.lco_cycles")
 
     def test_mesh_motion_test_follows_the_shell(self):
         out = os.path.join(self.tmp.name, "mm")
@@ -559,6 +625,179 @@ class MotionRuns(unittest.TestCase):
         self.assertTrue((m.cell_data["quality"][0] > 0).all())
 
 
+class ModalRuns(unittest.TestCase):
+    """`shell.analysis.type: modal` on the reference strip (cases/shell/strip_modal.yaml)."""
+
+    CASE = os.path.join(ROOT, "cases", "shell", "strip_modal.yaml")
+    # Plate-strip theory, clamped-clamped (shell-references.md): beta_n L = 4.730041, 7.853205,
+    # 10.995608, 14.137165.
+    REFERENCE_HZ = (31.401, 86.557, 169.687, 280.500)
+
+    @classmethod
+    def setUpClass(cls):
+        import time
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.out = os.path.join(cls.tmp.name, "modal")
+        start = time.monotonic()
+        cls.result = shellflow("run", cls.CASE, "-o", cls.out, "--no-plot")
+        cls.seconds = time.monotonic() - start
+        with open(cls.CASE) as f:
+            cls.modes = int(re.search(r"\n    modes: (\d+)", f.read()).group(1))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def rows(self):
+        with open(os.path.join(self.out, "modes.csv"), newline="") as f:
+            return list(csv.DictReader(f))
+
+    def test_bending_frequencies_match_plate_strip_theory(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        rows = self.rows()
+        # The 20x1 cubic mesh (244 nodes) is 6e-5, 1.1e-4, 1.8e-4, 2.1e-4 below the
+        # Euler-Bernoulli values of modes 1-4 (its discretisation error plus the shear and
+        # rotary inertia the plate strip leaves out, both growing with the mode number);
+        # 5e-4 is above that and below what a wrong thickness or density of 0.1 % moves.
+        for k, reference in enumerate(self.REFERENCE_HZ):
+            f = float(rows[k]["frequency_hz"])
+            self.assertLess(abs(f / reference - 1.0), 5e-4, (k + 1, f, reference))
+        self.assertLess(abs(float(rows[0]["frequency_hz"]) / 31.401 - 1.0), 1e-4, rows[0])
+        self.assertIn("31.39", self.result.stderr)  # the log table
+        self.assertLess(self.seconds, 60.0)
+
+    def test_modes_csv_has_the_columns_and_one_row_per_mode(self):
+        rows = self.rows()
+        self.assertEqual(list(rows[0].keys()), ["mode", "frequency_hz", "angular_frequency", "direction",
+                                                "kinetic_x", "kinetic_y", "kinetic_z"])
+        self.assertEqual(len(rows), self.modes)
+        self.assertEqual([int(r["mode"]) for r in rows], list(range(1, self.modes + 1)))
+        f = [float(r["frequency_hz"]) for r in rows]
+        self.assertEqual(f, sorted(f))
+        for r in rows:
+            self.assertAlmostEqual(float(r["angular_frequency"]), 2 * math.pi * float(r["frequency_hz"]),
+                                   delta=1e-8 * float(r["angular_frequency"]))
+        for r in rows[:4]:  # bending: transverse (y), the directors' rotary inertia < 1e-3
+            self.assertEqual(r["direction"], "y", r)
+            self.assertGreater(float(r["kinetic_y"]), 0.999, r)
+        with open(os.path.join(self.out, "modes.json")) as fj:
+            report = json.load(fj)
+        self.assertEqual(len(report["frequencies_hz"]), self.modes)
+        for a, b in zip(report["frequencies_hz"], f):
+            self.assertAlmostEqual(a, b, delta=1e-8 * b)
+        self.assertGreaterEqual(report["iterations"], 1)
+
+    def test_mode_shapes_in_the_vtu_and_the_pvd_series(self):
+        import xml.etree.ElementTree as ET
+        arrays = read_vtu_point_arrays(os.path.join(self.out, "shell_modes.vtu"))
+        names = [f"mode_{k:02d}" for k in range(1, self.modes + 1)]
+        for name in names:
+            self.assertIn(name, arrays)
+            self.assertEqual(len(arrays[name]), 244)
+            # Scaled to a largest nodal displacement of 1.
+            self.assertAlmostEqual(max(math.sqrt(sum(c * c for c in v)) for v in arrays[name]), 1.0, delta=1e-12)
+        # Mode 1 is symmetric about midspan, mode 2 antisymmetric: at the quarter points
+        # (nodes at x = 0.375 and 0.625, z = 0) w is equal / opposite.
+        import meshio
+        points = meshio.read(os.path.join(self.out, "shell_modes.vtu")).points
+        left = min(range(len(points)), key=lambda i: abs(points[i][0] - 0.375) + abs(points[i][2]))
+        right = min(range(len(points)), key=lambda i: abs(points[i][0] - 0.625) + abs(points[i][2]))
+        w1, w2 = arrays["mode_01"], arrays["mode_02"]
+        self.assertAlmostEqual(w1[left][1], w1[right][1], delta=1e-6)
+        self.assertAlmostEqual(w2[left][1], -w2[right][1], delta=1e-6)
+        self.assertGreater(abs(w1[left][1]), 0.3)
+        files = [(float(d.get("timestep")), d.get("file"))
+                 for d in ET.parse(os.path.join(self.out, "modes.pvd")).iter("DataSet")]
+        self.assertEqual([t for t, _ in files], [float(k) for k in range(1, self.modes + 1)])
+        for k, (_, name) in enumerate(files):
+            frame = read_vtu_point_arrays(os.path.join(self.out, name))
+            self.assertEqual(frame["displacement"], arrays[names[k]], name)
+
+    def test_free_vibration_case_vibrates_at_the_first_modal_frequency(self):
+        # cases/shell/strip_free_vibration.yaml: 1 Pa for 12 ms (two periods of mode 3), then
+        # free; w_mid's zero crossings after the release give the first mode's frequency less
+        # the trapezoidal rule's period elongation (omega dt)^2 / 12 (8.1e-4 at dt = 0.5 ms).
+        # Measured 31.3791 Hz against 31.3736 expected (+1.7e-4: what the higher modes and
+        # the linear interpolation of the crossings leave).
+        f1 = float(self.rows()[0]["frequency_hz"])
+        with tempfile.TemporaryDirectory() as tmp:
+            r, rows = run_case(self, tmp, "shell", "strip_free_vibration.yaml")
+        samples = [(float(t), float(w)) for t, w in rows[1:]]
+        crossings = [ta + (tb - ta) * a / (a - b) for (ta, a), (tb, b) in zip(samples, samples[1:])
+                     if ta >= 0.0125 and (a > 0) != (b > 0)]
+        self.assertGreaterEqual(len(crossings), 5)
+        f = (len(crossings) - 1) / (2.0 * (crossings[-1] - crossings[0]))
+        dt = 5.0e-4
+        expected = f1 * (1.0 - (2 * math.pi * f1 * dt) ** 2 / 12.0)
+        self.assertLess(abs(f / expected - 1.0), 5e-4, (f, expected))
+        # Linear range: the peak deflection stays below 2 % of h (membrane stiffening ~ amplitude^2).
+        self.assertLess(max(abs(w) for _, w in samples), 0.02 * 1.35e-3)
+
+    def check_error(self, text, key, needle):
+        path = os.path.join(self.tmp.name, "bad_modal.yaml")
+        with open(path, "w") as f:
+            f.write(text)
+        r = shellflow("check", path)
+        self.assertEqual(r.returncode, 1, r.stdout + r.stderr)
+        lines = r.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, r.stderr)
+        self.assertIn(f"{path}:{line_of(text, needle)}: {key}", lines[0])
+        return lines[0]
+
+    def test_check_accepts_the_modal_case_and_refuses_bad_keys(self):
+        r = shellflow("check", self.CASE)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        text = panel_case_text(self.CASE)
+        message = self.check_error(text.replace("modes: ", "modes: 0 #"), "shell.analysis.modes", "modes:")
+        self.assertIn("must be in [1, 200], got 0", message)
+        message = self.check_error(text.replace("modes: ", "mods: "), "shell.analysis.mods", "mods:")
+        self.assertIn("unknown key; did you mean 'modes'?", message)
+        message = self.check_error(text.replace("    modes: ", "    scheme: midpoint\n    modes: "),
+                                   "shell.analysis.scheme", "scheme:")
+        self.assertIn("applies only to analyses of type 'dynamic'", message)
+
+    def test_supports_along_rotated_directions_give_the_same_frequencies(self):
+        # The strip turned by 30 degrees about x, its symmetry planes with the turned normal:
+        # the sides get local node frames (ShellModel::to_local), the frequencies must not move.
+        with open(os.path.join(ROOT, "cases", "shell", "strip_20x1.geo")) as f:
+            geo = f.read().replace('Physical Curve("leading_edge")',
+                                   'Rotate {{1, 0, 0}, {0, 0, 0}, Pi/6} { Surface{1}; }\n'
+                                   'Physical Curve("leading_edge")')
+        geo_path = os.path.join(self.tmp.name, "strip_turned.geo")
+        with open(geo_path, "w") as f:
+            f.write(geo)
+        with open(self.CASE) as f:
+            text = f.read().replace("geo: strip_20x1.geo", "geo: " + geo_path)
+        text = text.replace("normal: [0, 0, 1]", "normal: [0, -0.5, 0.8660254037844386]")
+        path = os.path.join(self.tmp.name, "turned_modal.yaml")
+        with open(path, "w") as f:
+            f.write(text)
+        out = os.path.join(self.tmp.name, "turned")
+        r = shellflow("run", path, "-o", out, "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "modes.csv"), newline="") as f:
+            turned = list(csv.DictReader(f))
+        for a, b in zip(turned, self.rows()):
+            self.assertAlmostEqual(float(a["frequency_hz"]), float(b["frequency_hz"]),
+                                   delta=1e-7 * float(b["frequency_hz"]))
+            # The transverse direction is now (0, cos 30, sin 30): kinetic energy 3/4 on y.
+            self.assertAlmostEqual(float(a["kinetic_y"]) / (float(a["kinetic_y"]) + float(a["kinetic_z"])), 0.75,
+                                   delta=1e-6)
+
+    def test_a_shell_free_to_move_is_one_error_line(self):
+        # Only the symmetry planes: the strip can translate in its plane and turn about z.
+        text = re.sub(r"    - \{ group: \w+_edge, type: clamped \}\n", "", panel_case_text(self.CASE))
+        path = os.path.join(self.tmp.name, "free_modal.yaml")
+        with open(path, "w") as f:
+            f.write(text)
+        r = shellflow("run", path, "-o", os.path.join(self.tmp.name, "free"), "--no-plot")
+        self.assertEqual(r.returncode, 1, r.stderr)
+        errors = [l for l in r.stderr.splitlines() if l.startswith("shellflow: error: ")]
+        self.assertEqual(len(errors), 1, r.stderr)
+        self.assertIn(f"{path}:{line_of(text, 'analysis:')}: shell.analysis: ", errors[0])
+        self.assertIn("no support stops the rigid-body", errors[0])
+
+
 class InputHardening(unittest.TestCase):
     """Untrusted case files: `check` and `mesh` run nothing a .geo asks for, damaged .msh
     files and malformed YAML are one-line errors (no crash, no hang), `mesh --json` prints
@@ -702,6 +941,127 @@ class InputHardening(unittest.TestCase):
         report = json.loads(r.stdout)
         self.assertEqual(report["shell"]["elements"], 40)
         self.assertTrue(os.path.getsize(os.path.join(out, "meshes.png")) > 1000)
+
+
+class FlutterAnalysis(unittest.TestCase):
+    """`shellflow flutter` (linear flutter analysis) and `shellflow study` (boundary search from
+    time runs) on the piston-theory panel cases (docs/flutter.md)."""
+
+    CLAMPED = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml")
+    MONOLITHIC = os.path.join(ROOT, "cases", "panel_flutter", "clamped_sliding_piston_monolithic.yaml")
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def flutter(self, *args, case=None):
+        out = os.path.join(self.tmp.name, "flutter")
+        r = shellflow("flutter", case or self.CLAMPED, "-o", out, "--json", *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return json.loads(r.stdout), out  # stdout is the JSON object and nothing else
+
+    def test_dowell_clamped_boundary_without_aerodynamic_damping(self):
+        d, out = self.flutter("--no-aero-damping")
+        self.assertLess(abs(d["lambda_cr"] / 636.6 - 1), 0.005)
+        self.assertLess(abs(d["critical_value_half_modes"] / d["lambda_cr"] - 1), 1e-4)  # basis converged
+        self.assertGreater(d["frequency_hz"], d["in_vacuo_frequencies_hz"][0])
+        self.assertLess(d["frequency_hz"], d["in_vacuo_frequencies_hz"][1])
+        for name in ("flutter_locus.csv", "flutter.json", "flutter_locus.png"):
+            self.assertTrue(os.path.getsize(os.path.join(out, name)) > 100, name)
+        with open(os.path.join(out, "flutter_locus.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 50 * 24)  # 50 values x 24 roots
+
+    def test_mach_sweep_and_the_case_point(self):
+        d, _ = self.flutter("--parameter", "mach")
+        # At rho and p of the case: the boundary between Mach 2.0 and 2.02 (docs/flutter.md);
+        # the case's own point (Mach 2.3) is unstable with the growth of the time runs' check.
+        self.assertGreater(d["mach_cr"], 2.0)
+        self.assertLess(d["mach_cr"], 2.02)
+        self.assertAlmostEqual(d["lambda_cr"], 703.8212528 * (d["mach_cr"] ** 2 / math.sqrt(d["mach_cr"] ** 2 - 1))
+                               / (2.3 ** 2 / math.sqrt(2.3 ** 2 - 1)), delta=1e-3)
+        self.assertLess(abs(d["case_growth_rate"] / 51.605 - 1), 1e-3)
+
+    def test_a_range_without_boundary_says_so(self):
+        out = os.path.join(self.tmp.name, "flutter")
+        r = shellflow("flutter", self.CLAMPED, "-o", out, "--json", "--range", "0", "300", "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIsNone(json.loads(r.stdout)["lambda_cr"])
+        self.assertIn("no flutter boundary in lambda = [0, 300]", r.stderr)
+
+    def test_bad_flutter_input_is_one_line(self):
+        r = shellflow("flutter", self.CLAMPED, "-o", os.path.join(self.tmp.name, "x"), "--parameter", "mach",
+                      "--no-aero-damping")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("--no-aero-damping applies to --parameter lambda only", r.stderr)
+        shell = os.path.join(ROOT, "cases", "shell", "strip_modal.yaml")
+        r = shellflow("flutter", shell, "-o", os.path.join(self.tmp.name, "y"))
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("needs a 'fluid' section", r.stderr)
+        r = shellflow("run", self.CLAMPED, "-o", os.path.join(self.tmp.name, "z"), "--set", "fluid.free_stream=2")
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+
+    def study(self, out, *sets):
+        args = ["study", self.MONOLITHIC, "-o", out, "-j", "2", "--no-plot", "--json"]
+        for s in sets:
+            args += ["--set", s]
+        r = shellflow(*args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        return json.loads(r.stdout), r
+
+    def test_study_finds_the_linear_boundary_and_resumes(self):
+        d_lin, _ = self.flutter("--parameter", "mach", case=self.MONOLITHIC)
+        out = os.path.join(self.tmp.name, "study")
+        sets = ("study.range=[1.95, 2.1]", "study.points=3", "study.tolerance=0.005")
+        d, r = self.study(out, *sets)
+        self.assertIsNotNone(d["boundary"], r.stderr)
+        # The monolithic scheme has no time lag: the time runs' boundary is the linear one.
+        self.assertLess(abs(d["boundary"] - d_lin["mach_cr"]), d["tolerance"])
+        lo, hi = d["bracket"]
+        self.assertLessEqual(hi - lo, d["tolerance"])
+        with open(os.path.join(out, "study.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), len(d["points"]))
+        self.assertTrue(all(row["status"] == "ok" for row in rows))
+        # Resumed: nothing is rerun, the answer is the same.
+        d2, r2 = self.study(out, *sets)
+        self.assertNotIn("study: run ", r2.stderr)
+        self.assertEqual(d2["boundary"], d["boundary"])
+
+    def test_study_marks_failed_runs_and_reports_a_missing_bracket(self):
+        # A 1 micrometre panel under the start-up pulse: Newton gives up in the run (a failed point,
+        # the study goes on); the 1.35 mm one grows (Mach 2.3): no sign change in the range.
+        out = os.path.join(self.tmp.name, "study")
+        d, r = self.study(out, "study.parameter=thickness", "study.range=[1e-6, 1.35e-3]", "study.points=2",
+                          "study.set={time.end: 0.05, coupling.response.window: [0.005, 1.0]}")
+        self.assertIsNone(d["boundary"])
+        self.assertIn("does not change sign", r.stderr)
+        failed = [p for p in d["points"] if not p["ok"]]
+        self.assertEqual(len(failed), 1)
+        self.assertIn("Newton did not converge", failed[0]["message"])
+        self.assertTrue(any(p["ok"] and p["growth_rate"] > 0 for p in d["points"]))
+        with open(os.path.join(out, "study.csv"), newline="") as f:
+            self.assertEqual(sorted(row["status"] for row in csv.DictReader(f)), ["failed", "ok"])
+
+    def test_a_study_range_the_runs_cannot_take_is_refused_before_running(self):
+        # Dynamic pressure 15876 Pa is Mach 0.9 at this p: piston theory cannot run it.
+        out = os.path.join(self.tmp.name, "study")
+        r = shellflow("study", self.MONOLITHIC, "-o", out, "--set", "study.parameter=dynamic_pressure",
+                      "--set", "study.range=[15876, 50000]")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("study at dynamic_pressure = 15876", r.stderr)
+        self.assertIn("supersonic", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "points")))
+
+    def test_a_study_of_an_unknown_probe_runs_nothing(self):
+        out = os.path.join(self.tmp.name, "study")
+        r = shellflow("study", self.MONOLITHIC, "-o", out, "--set", "coupling.response.probe=w_nowhere")
+        self.assertEqual(r.returncode, 1)
+        self.assertIn("w_nowhere", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(out, "points")))
 
 
 if __name__ == "__main__":

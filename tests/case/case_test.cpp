@@ -834,3 +834,60 @@ TEST(ReadCase, ShellPathControlAndTimeScheme) {
 
 }  // namespace
 }  // namespace shellflow::io
+
+namespace shellflow::io {
+namespace {
+
+TEST(ReadCase, ShellModalAnalysis) {
+  const std::string head =
+      "name: t\n"
+      "meshes: { shell: { geo: panel_strip.geo } }\n"
+      "shell:\n"
+      "  thickness: 0.1\n"
+      "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n";
+  // No time section needed; defaults of ModalOptions.
+  const Case d = read_case_string(head + "  analysis: { type: modal }\n", data("inline.yaml"));
+  ASSERT_TRUE(d.shell && d.shell->analysis);
+  EXPECT_EQ(d.shell->analysis->type, ShellAnalysisType::modal);
+  EXPECT_EQ(d.shell->analysis->modes, 10);
+  EXPECT_EQ(d.shell->analysis->modal_tolerance, 1e-8);
+  EXPECT_EQ(d.shell->analysis->modal_max_iterations, 300);
+  EXPECT_FALSE(d.time);
+  const Case m = read_case_string(
+      head + "  analysis: { type: modal, modes: 200, tolerance: 1e-6, max_iterations: 50 }\n",
+      data("inline.yaml"));
+  EXPECT_EQ(m.shell->analysis->modes, 200);
+  EXPECT_EQ(m.shell->analysis->modal_tolerance, 1e-6);
+  EXPECT_EQ(m.shell->analysis->modal_max_iterations, 50);
+
+  EXPECT_EQ(text_error(head + "  analysis: { type: modal, modes: 0 }\n"),
+            at("inline.yaml", 6, "shell.analysis.modes: must be in [1, 200], got 0"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: modal, modes: 201 }\n"),
+            at("inline.yaml", 6, "shell.analysis.modes: must be in [1, 200], got 201"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: modal, tolerance: 0 }\n"),
+            at("inline.yaml", 6, "shell.analysis.tolerance: must be in (0, 1), got 0"));
+  EXPECT_EQ(text_error(head + "  analysis:\n    type: modal\n    scheme: midpoint\n"),
+            at("inline.yaml", 8, "shell.analysis.scheme: applies only to analyses of type 'dynamic'; "
+                                 "a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: modal, steps: 3 }\n"),
+            at("inline.yaml", 6, "shell.analysis.steps: applies only to analyses of type 'static'; "
+                                 "a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: modal, newton: full }\n"),
+            at("inline.yaml", 6, "shell.analysis.newton: applies only to analyses of type 'static' or "
+                                 "'dynamic'; a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: modal, mods: 3 }\n"),
+            at("inline.yaml", 6, "shell.analysis.mods: unknown key; did you mean 'modes'?"));
+  EXPECT_EQ(text_error(head + "  analysis: { type: static, modes: 3 }\n"),
+            at("inline.yaml", 6, "shell.analysis.modes: applies only to analyses of type 'modal'"));
+  EXPECT_EQ(text_error("name: t\n"
+                       "meshes: { shell: { geo: panel_strip.geo } }\n"
+                       "shell:\n"
+                       "  thickness: 0.1\n"
+                       "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 0 }\n"
+                       "  analysis: { type: modal }\n"),
+            at("inline.yaml", 6, "shell.analysis.type: a modal analysis needs the shell's mass; set "
+                                 "shell.material.density > 0"));
+}
+
+}  // namespace
+}  // namespace shellflow::io

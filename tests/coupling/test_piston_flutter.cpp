@@ -3,14 +3,13 @@
 // analysis of the same discrete shell + piston-theory system (coupling.md, last section).
 #include <gtest/gtest.h>
 
-#include <Eigen/Eigenvalues>
-
+#include <algorithm>
 #include <cstdio>
 
+#include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/coupling/response.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/setup/coupled_setup.h"
-#include "shellflow/shell/modal.h"
 #include "shellflow/shell/shell_queries.h"
 #include "coupling_test_util.h"
 
@@ -52,28 +51,15 @@ Flutter time_run(const io::Case& c, double t0) {
 }
 
 /// The eigenvalue of largest real part of M q'' + D q' + (K + A) q = 0 on the first
-/// `modes` in-vacuo modes of the supported shell.
+/// `modes` in-vacuo modes of the supported shell (coupling::LinearFlutterSystem).
 Flutter eigen_analysis(const io::Case& c, int modes) {
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
-  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(s.shell->num_dofs());
-  const shell::ModalResult m = shell::natural_frequencies(*s.shell, modes, zero);
-  shell::SparseMatrix A, D;
-  s.piston->theory().matrices(A, D);
-  const int n = modes;
-  Eigen::MatrixXd Phi(s.shell->num_dofs(), n);
-  for (int i = 0; i < n; ++i) Phi.col(i) = m.modes[std::size_t(i)];
-  const Eigen::MatrixXd Ar = Phi.transpose() * (A * Phi), Dr = Phi.transpose() * (D * Phi);
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  S.topRightCorner(n, n).setIdentity();
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
-  for (int i = 0; i < n; ++i) K(i, i) = std::pow(2 * M_PI * m.frequencies[std::size_t(i)], 2);
-  S.bottomLeftCorner(n, n) = -(K + Ar);
-  S.bottomRightCorner(n, n) = -Dr;
-  const Eigen::EigenSolver<Eigen::MatrixXd> es(S);
-  std::complex<double> best(-1e300, 0.0);
-  for (int i = 0; i < 2 * n; ++i)
-    if (es.eigenvalues()[i].real() > best.real()) best = es.eigenvalues()[i];
+  const PistonTheory& theory = s.piston->theory();
+  const LinearFlutterSystem system(*s.shell, theory, modes);
+  const auto roots = system.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
+  const auto best = *std::max_element(roots.begin(), roots.end(),
+                                      [](const auto& a, const auto& b) { return a.real() < b.real(); });
   return {best.real(), std::abs(best.imag()) / (2 * M_PI)};
 }
 

@@ -58,6 +58,11 @@ void PistonTheory::pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd
 }
 
 void PistonTheory::matrices(shell::SparseMatrix& A, shell::SparseMatrix& D) const {
+  matrices(A, D, q_stiffness_, q_damping_);
+}
+
+void PistonTheory::matrices(shell::SparseMatrix& A, shell::SparseMatrix& D, double q_stiffness,
+                            double q_damping) const {
   A = model_.make_matrix();
   D = model_.make_matrix();
   A.coeffs().setZero();
@@ -72,8 +77,8 @@ void PistonTheory::matrices(shell::SparseMatrix& A, shell::SparseMatrix& D) cons
       const Eigen::Index rj = shell::dofs_per_node * basis_.nodes[n * k + j];
       for (std::size_t l = 0; l < n; ++l) {
         const Eigen::Index cl = shell::dofs_per_node * basis_.nodes[n * k + l];
-        const double a = q_stiffness_ * w * basis_.phi[n * k + j] * dphi_dx_[n * k + l];
-        const double d = q_damping_ * w * basis_.phi[n * k + j] * basis_.phi[n * k + l];
+        const double a = q_stiffness * w * basis_.phi[n * k + j] * dphi_dx_[n * k + l];
+        const double d = q_damping * w * basis_.phi[n * k + j] * basis_.phi[n * k + l];
         for (int r = 0; r < 3; ++r)
           for (int c = 0; c < 3; ++c) {
             if (NN(r, c) == 0.0) continue;

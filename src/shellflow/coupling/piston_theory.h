@@ -41,6 +41,10 @@ class PistonTheory {
   void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) const;
   /// A and D on the pattern of model.make_matrix().
   void matrices(shell::SparseMatrix& stiffness, shell::SparseMatrix& damping) const;
+  /// The same with other coefficients in place of rho U^2 / beta and rho U c / beta (1 and 1:
+  /// the matrices per unit coefficient, as the linear flutter analysis scales them).
+  void matrices(shell::SparseMatrix& stiffness, shell::SparseMatrix& damping, double q_stiffness,
+                double q_damping) const;
   /// Per load point: +1 where the shell normal (like V) points into the flow, -1 elsewhere.
   const std::vector<double>& sign() const { return sign_; }
   const PistonTheoryFlow& flow() const { return flow_; }

@@ -6,6 +6,7 @@
 #include <array>
 #include <cctype>
 #include <map>
+#include <utility>
 
 #include "shellflow/core/error.h"
 #include "shellflow/io/case_sections.h"
@@ -35,7 +36,23 @@ constexpr std::array<std::string_view, 7> kTimeFunctionNames = {
     "constant", "ramp", "sine", "tabulated", "step", "smooth_step", "expression"};
 constexpr std::array<std::string_view, 6> kShellLoadNames = {
     "line", "point", "edge_couple", "pressure", "gravity", "surface"};
-constexpr std::array<std::string_view, 2> kAnalysisNames = {"static", "dynamic"};
+constexpr std::array<std::string_view, 3> kAnalysisNames = {"static", "dynamic", "modal"};
+// Keys of the static and dynamic shell analyses with the types they belong to, refused by
+// name in a modal one: a modal analysis follows no load path and no time, and the message
+// says where the key belongs rather than "unknown key".
+constexpr std::array<std::pair<std::string_view, std::string_view>, 10> kLoadPathKeys = {{
+    {"steps", "static"},
+    {"control", "static"},
+    {"controlled", "static"},
+    {"final_value", "static"},
+    {"initial_load_increment", "static"},
+    {"final_load_factor", "static"},
+    {"load_function", "dynamic"},
+    {"mass_damping", "dynamic"},
+    {"scheme", "dynamic"},
+    {"newton", "static' or 'dynamic"},
+}};
+constexpr std::array<std::string_view, 3> kModalKeys = {"modes", "tolerance", "max_iterations"};
 
 constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
     {"shell", "displacement", true},
@@ -268,7 +285,27 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     ShellAnalysis analysis;
     analysis.where = a->location();
     const auto type = a->choice("type", kAnalysisNames);
-    analysis.type = type == "static" ? ShellAnalysisType::static_load : ShellAnalysisType::dynamic;
+    analysis.type = type == "static"    ? ShellAnalysisType::static_load
+                    : type == "dynamic" ? ShellAnalysisType::dynamic
+                                        : ShellAnalysisType::modal;
+    if (analysis.type == ShellAnalysisType::modal) {
+      for (const auto& [key, types] : kLoadPathKeys) {
+        if (a->has(key)) {
+          a->fail(key, fmt::format("applies only to analyses of type '{}'; a modal analysis takes "
+                                   "'modes', 'tolerance' and 'max_iterations'",
+                                   types));
+        }
+      }
+      if (!(shell.material.density > 0.0)) {
+        a->fail("type", "a modal analysis needs the shell's mass; set shell.material.density > 0");
+      }
+      analysis.modes = a->optional<int>("modes", 10, Range::in_range(1, 200));
+      analysis.modal_tolerance = a->optional<double>("tolerance", 1e-8, Range::open(0.0, 1.0));
+      analysis.modal_max_iterations = a->optional<int>("max_iterations", 300, Range::at_least(1));
+    } else {
+      for (const std::string_view key : kModalKeys)
+        if (a->has(key)) a->fail(key, "applies only to analyses of type 'modal'");
+    }
     if (analysis.type == ShellAnalysisType::static_load) {
       analysis.steps = a->optional<int>("steps", 10, Range::at_least(1));
       const std::string control =
@@ -291,14 +328,15 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
             a->optional<double>("initial_load_increment", 0.1, Range::positive());
         analysis.final_load_factor = a->optional<double>("final_load_factor", 1.0, Range::positive());
       }
-    } else {
+    } else if (analysis.type == ShellAnalysisType::dynamic) {
       if (auto f = a->optional_child("load_function")) analysis.load_function = read_time_function(*f);
       analysis.mass_damping = a->optional<double>("mass_damping", 0.0, Range::non_negative(), "1/s");
       analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint"
                             ? TimeScheme::midpoint
                             : TimeScheme::newmark;
     }
-    analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
+    if (analysis.type != ShellAnalysisType::modal)
+      analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
     if (analysis.modified_newton && analysis.type == ShellAnalysisType::static_load &&
         analysis.control != PathControl::load) {
       a->fail("newton", "'modified' applies to load control and dynamics; displacement control "
@@ -683,6 +721,8 @@ Case read_case(const YamlNode& root) {
 
   c.probes = read_probes(root, c.meshes, c.group_references);
   c.output = read_output(root, c.name);
+  if (c.coupling) (void)response_probe(c);  // an unknown coupling.response.probe, before anything runs
+  if (auto node = root.optional_child("study")) c.study = detail::read_study(*node, c);
   root.finish();
   std::stable_sort(
       c.group_references.begin(), c.group_references.end(),
@@ -770,7 +810,9 @@ const MeshSpec* MeshesSection::find(std::string_view key) const {
 
 std::span<const ProbeQuantity> probe_quantities() { return kProbeQuantities; }
 
-Case read_case(const fs::path& file) { return read_case(YamlNode::load_file(file)); }
+Case read_case(const fs::path& file, std::span<const KeyOverride> overrides) {
+  return read_case(YamlNode::load_file(file, overrides));
+}
 
 Case read_case_string(std::string_view text, const fs::path& file) {
   return read_case(YamlNode::load_string(text, file));

@@ -15,6 +15,7 @@
 #include <array>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string>
@@ -101,7 +102,7 @@ struct ShellLoad {
   SourceLocation where;
 };
 
-enum class ShellAnalysisType { static_load, dynamic };
+enum class ShellAnalysisType { static_load, dynamic, modal };
 
 /// How a static analysis follows the equilibrium path.
 enum class PathControl {
@@ -126,6 +127,9 @@ struct ShellAnalysis {
   double mass_damping = 0.0;     ///< dynamic: c_m in C = c_m M [1/s]
   TimeScheme scheme = TimeScheme::newmark;  ///< dynamic
   bool modified_newton = false;  ///< load control, dynamic: keep the iteration matrix (NewtonOptions::modified)
+  int modes = 10;                ///< modal: number of natural frequencies and modes (1..200)
+  double modal_tolerance = 1e-8; ///< modal: ModalOptions::tolerance (relative eigenvalue change)
+  int modal_max_iterations = 300;  ///< modal: ModalOptions::max_iterations
   SourceLocation where;
 };
 
@@ -303,6 +307,17 @@ struct MotionSection {
 
 // ---- coupling ---------------------------------------------------------------------------------
 
+/// `coupling.response`: the response analysis of one probe history, written at the end of the
+/// run to OUTDIR/response.json (docs/coupling.md "Response analysis").
+struct ResponseSection {
+  std::string probe;  ///< empty: the first probe of field shell.displacement
+  /// The window of the fit [s]; default the whole run.
+  double t_start = -std::numeric_limits<double>::infinity();
+  double t_end = std::numeric_limits<double>::infinity();
+  int lco_cycles = 5;    ///< the last N cycles of the window: saturation and limit cycle
+  SourceLocation where;  ///< `coupling.response.probe` when given, else the section
+};
+
 /// The coupled fluid–shell run (docs/coupling.md, docs/case-format.md "coupling").
 struct CouplingSection {
   enum class Scheme { staggered, monolithic } scheme = Scheme::staggered;
@@ -314,6 +329,7 @@ struct CouplingSection {
   double max_gap = 1e-6;    ///< [m] largest distance between the shell and the fluid wet boundary
   std::string fluid_group;  ///< the fluid mesh's wet boundary (euler, mesh motion)
   Vec3 wet_normal = Vec3::Zero();  ///< piston theory: from the shell into the flow (unit)
+  ResponseSection response;
   SourceLocation where;
 };
 
@@ -364,6 +380,23 @@ struct OutputSection {
   enum class ShellStress { cauchy, second_piola_kirchhoff, none } shell_stress = ShellStress::cauchy;
 };
 
+// ---- study ------------------------------------------------------------------------------------
+
+/// A parameter study of a coupled case (`shellflow study`, docs/flutter.md): runs at several
+/// values of one parameter, growth rates from response.json, the zero crossing bracketed
+/// and refined.
+struct StudySection {
+  enum class Parameter { mach, density, dynamic_pressure, thickness } parameter = Parameter::mach;
+  double lo = 0.0, hi = 0.0;  ///< the range, lo < hi
+  int points = 5;             ///< runs of the first sweep (>= 2)
+  double tolerance = 0.0;     ///< width of the final bracket, in the parameter's unit (> 0)
+  int max_refinements = 12;   ///< refinement rounds at most
+  /// `set`: case keys replaced in every run (KEY: VALUE, like `run --set`), e.g. a longer
+  /// time.end, another fluid.model, a smaller start-up pulse. In file order.
+  std::vector<KeyOverride> set;
+  SourceLocation where;
+};
+
 // ---- the case -----------------------------------------------------------------------------------
 
 /// A physical group named in the case file, and where (for a message if the mesh lacks it).
@@ -383,17 +416,24 @@ struct Case {
   std::optional<MotionSection> motion;
   std::optional<TimeSection> time;
   std::optional<CouplingSection> coupling;
+  std::optional<StudySection> study;  ///< read by `shellflow study`; `run` ignores it
   std::vector<Probe> probes;
   OutputSection output;
   /// Every physical group the case names, in file order.
   std::vector<GroupReference> group_references;
 };
 
-/// Reads and checks a case file. Throws InputError `FILE:LINE: key.path: message`.
-Case read_case(const std::filesystem::path& file);
+/// Reads and checks a case file, with `overrides` (`--set KEY=VALUE`) applied to its keys
+/// first. Throws InputError `FILE:LINE: key.path: message`.
+Case read_case(const std::filesystem::path& file, std::span<const KeyOverride> overrides = {});
 /// Same, from text; `file` names it in messages and relative paths are resolved from its
 /// directory.
 Case read_case_string(std::string_view text, const std::filesystem::path& file);
+
+/// The probe of the response analysis of a coupled case, as an index into c.probes: the one
+/// coupling.response.probe names, else the first probe of field shell.displacement; nullopt
+/// when neither is there. Throws InputError at coupling.response.probe for an unknown name.
+std::optional<std::size_t> response_probe(const Case& c);
 
 /// Physical group names of a mesh, by its key ("fluid", "space", "shell").
 using GroupNamesOfMesh = std::function<std::vector<std::string>(std::string_view mesh_key)>;
@@ -414,6 +454,7 @@ std::string_view to_string(ProbeLocation l);
 std::string_view to_string(ProbeReduce r);
 std::string_view to_string(MotionMethod m);
 std::string_view to_string(ShellLoadType t);
+std::string_view to_string(StudySection::Parameter p);
 std::string_view to_string(MotionWeighting w);
 
 }  // namespace shellflow::io

@@ -3,11 +3,41 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 
 #include "shellflow/core/error.h"
 #include "shellflow/io/case_sections.h"
 
 namespace shellflow::io::detail {
+
+namespace {
+
+/// `coupling.response`; the probe name is checked against the probes later (response_probe:
+/// the probes section is read after this one).
+ResponseSection read_response(const YamlNode& node) {
+  node.expect_map();
+  ResponseSection r;
+  r.where = node.location();
+  if (node.has("probe")) {
+    r.probe = node.required<std::string>("probe");
+    if (r.probe.empty()) node.fail("probe", "expected the name of a probe, got an empty string");
+    r.where = node.location("probe");
+  }
+  if (node.has("window")) {
+    const std::vector<YamlNode> items = node.list("window");
+    if (items.size() != 2)
+      node.fail("window", fmt::format("expected [t_start, t_end] in seconds, got a list of {} items", items.size()));
+    r.t_start = items[0].as<double>();
+    r.t_end = items[1].as<double>();
+    if (!std::isfinite(r.t_start) || !std::isfinite(r.t_end) || !(r.t_start < r.t_end))
+      node.fail("window", fmt::format("expected [t_start, t_end] with t_start < t_end (seconds), got [{}, {}]",
+                                      r.t_start, r.t_end));
+  }
+  r.lco_cycles = node.optional<int>("lco_cycles", 5, Range::at_least(1));
+  return r;
+}
+
+}  // namespace
 
 CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
                               std::vector<GroupReference>& refs) {
@@ -40,6 +70,8 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
     refs.push_back({c.fluid_group, "fluid", node.location("fluid_group")});
   }
   if (node.has("wet_normal")) c.wet_normal = unit_vector(node, "wet_normal", node.vec3("wet_normal"));
+  if (auto r = node.optional_child("response")) c.response = read_response(*r);
+  else c.response.where = node.location();
   node.finish();
   return c;
 }
@@ -97,3 +129,22 @@ void check_coupled_case(const Case& c) {
 }
 
 }  // namespace shellflow::io::detail
+
+namespace shellflow::io {
+
+std::optional<std::size_t> response_probe(const Case& c) {
+  const std::string name = c.coupling ? c.coupling->response.probe : std::string();
+  for (std::size_t i = 0; i < c.probes.size(); ++i)
+    if (name.empty() ? c.probes[i].field == "shell.displacement" : c.probes[i].name == name) return i;
+  if (name.empty()) return std::nullopt;
+  std::vector<std::string> names;
+  for (const Probe& p : c.probes) names.push_back(p.name);
+  std::string hint;
+  if (auto suggestion = closest_match(name, names)) hint = fmt::format("did you mean '{}'? ", *suggestion);
+  throw_at(c.coupling->response.where,
+           names.empty() ? fmt::format("no probe named '{}': the case has no probes; add one to 'probes'", name)
+                         : fmt::format("no probe named '{}'; {}expected one of the probes: {}", name, hint,
+                                       fmt::join(names, ", ")));
+}
+
+}  // namespace shellflow::io

@@ -1,6 +1,6 @@
 #pragma once
 // Internal to the case reader: the readers of case-file sections that live in their own
-// files (case_coupling.cpp), and the helpers they share with case.cpp.
+// files (case_coupling.cpp, case_study.cpp), and the helpers they share with case.cpp.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,5 +23,8 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
 /// What a coupled case needs of its other sections (a dynamic shell analysis, a flow model or
 /// a mesh motion, ...). Throws InputError at the offending section.
 void check_coupled_case(const Case& c);
+
+/// The `study` section (read after the others: it checks them).
+StudySection read_study(const YamlNode& node, const Case& c);
 
 }  // namespace shellflow::io::detail

@@ -299,7 +299,56 @@ YamlNode::YamlNode(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
 // ---- loading ----------------------------------------------------------------------------------
 
-YamlNode YamlNode::load_string(std::string_view text, const fs::path& file) {
+KeyOverride KeyOverride::parse(std::string_view text, std::string_view option) {
+  const auto eq = text.find('=');
+  if (eq == std::string_view::npos || eq == 0)
+    throw InputError(fmt::format("{} '{}': expected KEY=VALUE, e.g. {} fluid.free_stream.mach=2.1", option, text,
+                                 option));
+  return {std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
+}
+
+namespace {
+
+/// Applies the overrides to the document's root map.
+void apply_overrides(YAML::Node root, std::span<const KeyOverride> overrides, const std::string& file) {
+  for (const KeyOverride& o : overrides) {
+    std::vector<std::string> keys;
+    for (std::size_t start = 0;;) {
+      const auto dot = o.path.find('.', start);
+      keys.push_back(o.path.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
+      if (dot == std::string::npos) break;
+      start = dot + 1;
+    }
+    for (const auto& k : keys)
+      if (k.empty())
+        throw InputError(fmt::format("{}: --set {}: empty key in the path; write keys like fluid.free_stream.mach",
+                                     file, o.path));
+    YAML::Node value;
+    try {
+      value = YAML::Load(o.value);
+    } catch (const YAML::Exception& e) {
+      throw InputError(fmt::format("{}: --set {}={}: the value is not valid YAML ({})", file, o.path, o.value, e.msg));
+    }
+    YAML::Node node = root;
+    std::string walked;
+    for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
+      walked += (walked.empty() ? "" : ".") + keys[i];
+      YAML::Node next = node[keys[i]];
+      if (!next.IsDefined() || next.IsNull()) {
+        node[keys[i]] = YAML::Node(YAML::NodeType::Map);
+        next = node[keys[i]];
+      } else if (!next.IsMap()) {
+        throw InputError(fmt::format("{}: --set {}: '{}' is not a map of keys in the case file", file, o.path, walked));
+      }
+      node.reset(next);
+    }
+    node[keys.back()] = value;
+  }
+}
+
+}  // namespace
+
+YamlNode YamlNode::load_string(std::string_view text, const fs::path& file, std::span<const KeyOverride> overrides) {
   auto doc = std::make_shared<Document>();
   doc->file = file.string();
   doc->base_dir = file.parent_path();
@@ -324,10 +373,11 @@ YamlNode YamlNode::load_string(std::string_view text, const fs::path& file) {
              fmt::format("expected a map of keys at the top level, got {}",
                          root.IsNull() ? std::string("an empty document") : describe_value(root)));
   }
+  apply_overrides(root, overrides, doc->file);
   return YamlNode(Impl::make(std::move(doc), root, {}, 1));
 }
 
-YamlNode YamlNode::load_file(const fs::path& file) {
+YamlNode YamlNode::load_file(const fs::path& file, std::span<const KeyOverride> overrides) {
   std::error_code ec;
   if (fs::is_directory(file, ec)) {
     throw InputError(fmt::format("{}: cannot open case file (it is a directory)", file.string()));
@@ -342,7 +392,7 @@ YamlNode YamlNode::load_file(const fs::path& file) {
   if (in.bad()) {
     throw InputError(fmt::format("{}: cannot open case file (read error)", file.string()));
   }
-  return load_string(text.str(), file);
+  return load_string(text.str(), file, overrides);
 }
 
 // ---- location -----------------------------------------------------------------------------------

@@ -81,15 +81,28 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 std::optional<std::string> closest_match(std::string_view word,
                                          const std::vector<std::string>& candidates);
 
+/// A command-line replacement of one key of a case file (`shellflow run --set KEY=VALUE`):
+/// `path` is dotted through maps (`fluid.free_stream.mach`), `value` is YAML (`2.1`,
+/// `piston_theory`, `[0.02, 0.06]`). Missing maps along the path are created, so a misspelt
+/// key is reported as unknown by the section's reader, like one in the file.
+struct KeyOverride {
+  std::string path;
+  std::string value;
+  /// Parses `KEY=VALUE`; throws InputError naming `option` when there is no `=` or no key.
+  static KeyOverride parse(std::string_view text, std::string_view option = "--set");
+};
+
 /// One node of a YAML document (a map, a list, or a scalar) with the file it came from, the
 /// line it was referenced at and its dotted key path.
 class YamlNode {
  public:
   /// Reads and parses a file. Throws InputError: `FILE: cannot open case file (...)`,
-  /// `FILE:LINE: YAML syntax error: ...`, or `FILE:1: expected a map of keys ...`.
-  static YamlNode load_file(const std::filesystem::path& file);
+  /// `FILE:LINE: YAML syntax error: ...`, or `FILE:1: expected a map of keys ...`; and for
+  /// an override whose path runs through a key that is not a map.
+  static YamlNode load_file(const std::filesystem::path& file, std::span<const KeyOverride> overrides = {});
   /// Parses text; `file` is used in messages and to resolve relative paths.
-  static YamlNode load_string(std::string_view text, const std::filesystem::path& file);
+  static YamlNode load_string(std::string_view text, const std::filesystem::path& file,
+                              std::span<const KeyOverride> overrides = {});
 
   YamlNode();  ///< an empty handle; only useful as a placeholder
   ~YamlNode();

@@ -1,5 +1,6 @@
 #include "shellflow/shell/modal.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -10,6 +11,60 @@
 #include "shellflow/core/error.h"
 
 namespace shellflow::shell {
+namespace {
+
+/// Throws SolverError naming a rigid-body motion that no support touches. Such a motion has
+/// no strain energy, so K is singular, but the sparse LDLT does not say so reliably: its
+/// pivots are round-off (~1e-16 of the transverse-normal stiffness E/h), rarely exactly zero,
+/// and the iteration would return a meaningless "frequency" near zero. Per rigid motion r
+/// (3 translations, 3 rotations about the centroid: Δx = t + ω × (X − c), ΔG = ω × G0) the
+/// supports see its fixed part; the generalised eigenproblem Fᵀ F v = μ Rᵀ R v gives the
+/// smallest fraction μ of a rigid motion's squared norm that lies on fixed dofs.
+void check_rigid_motions_are_fixed(const ShellModel& model) {
+  const Index nodes = model.num_nodes();
+  const auto& X = model.mesh().nodes;
+  Vec3 c = Vec3::Zero();
+  for (const Vec3& x : X) c += x;
+  c /= static_cast<double>(nodes);
+  const double length = std::max(model.reference_length(), 1e-300);
+  Eigen::MatrixXd R = Eigen::MatrixXd::Zero(model.num_dofs(), 6);
+  for (Index n = 0; n < nodes; ++n) {
+    const auto k = static_cast<std::size_t>(n);
+    for (int i = 0; i < 3; ++i) {
+      R(dofs_per_node * n + i, i) = 1.0;
+      const Vec3 w = Vec3::Unit(i) / length;  // rotations scaled to unit displacement at `length`
+      R.block<3, 1>(dofs_per_node * n, 3 + i) = w.cross(X[k] - c);
+      R.block<3, 1>(dofs_per_node * n + 3, 3 + i) = w.cross(model.directors()[k]);
+    }
+  }
+  Eigen::MatrixXd F = R;
+  for (int j = 0; j < 6; ++j) {
+    Eigen::VectorXd free = R.col(j);
+    model.remove_fixed_part(free);
+    F.col(j) -= free;
+  }
+  const Eigen::MatrixXd FF = F.transpose() * F;
+  const Eigen::MatrixXd RR = R.transpose() * R;
+  Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> fraction(0.5 * (FF + FF.transpose()),
+                                                                     0.5 * (RR + RR.transpose()));
+  if (fraction.info() != Eigen::Success || fraction.eigenvalues()(0) > 1e-10) return;
+  Eigen::VectorXd v = fraction.eigenvectors().col(0);
+  Eigen::Index largest = 0;
+  v.cwiseAbs().maxCoeff(&largest);
+  if (v(largest) < 0.0) v = -v;  // the motion's sign is arbitrary: print its largest part positive
+  const Vec3 t = v.head<3>(), w = v.tail<3>();
+  const auto clean = [](double x) { return std::abs(x) < 1e-9 ? 0.0 : x; };  // no "-3e-21", no "-0"
+  const auto vec = [&](const Vec3& a) {
+    return fmt::format("[{:.3g}, {:.3g}, {:.3g}]", clean(a.x()), clean(a.y()), clean(a.z()));
+  };
+  throw SolverError(fmt::format(
+      "shell modal analysis: no support stops the rigid-body {} {} (the stiffness matrix is "
+      "singular); add or extend supports so that the shell cannot move freely",
+      w.norm() > t.norm() ? "rotation about an axis along" : "translation along",
+      vec((w.norm() > t.norm() ? w : t).normalized())));
+}
+
+}  // namespace
 
 ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen::VectorXd& u,
                                 const ModalOptions& options) {
@@ -19,6 +74,12 @@ ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen:
   Eigen::VectorXd f;
   model.assemble(u, f, &K);
   model.assemble_mass(M);
+  check_rigid_motions_are_fixed(model);
+  // Supports along non-axis directions (symmetry planes, rollers, hard simple support) flag
+  // local components in constrained(): both matrices go to the node frames (Tᵀ A T, T
+  // orthogonal, so M-normalisation is kept) and the modes come back with T.
+  model.to_local(K);
+  model.to_local(M);
   // Supports: identity in K, zero in M (their modes are pushed to infinity).
   for (int col = 0; col < K.outerSize(); ++col) {
     SparseMatrix::InnerIterator itM(M, col);
@@ -53,16 +114,25 @@ ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen:
     const double change = ((lambda - previous).head(count).cwiseAbs().array() / lambda.head(count).array()).maxCoeff();
     previous = lambda;
     if (change < options.tolerance) {
+      // A mechanism that is not a rigid motion (a hinge line) leaves K singular too: its
+      // eigenvalue is round-off of either sign.
+      if (!(lambda(0) > 0.0))
+        throw SolverError("shell modal analysis: the stiffness matrix is singular (a zero-energy "
+                          "mode); check the supports");
       result.iterations = it;
       for (int k = 0; k < count; ++k) {
         result.frequencies.push_back(std::sqrt(lambda(k)) / (2.0 * std::numbers::pi));
-        result.modes.emplace_back(X.col(k));
+        Eigen::VectorXd phi = X.col(k);
+        model.to_global(phi);
+        result.modes.push_back(std::move(phi));
       }
       return result;
     }
   }
-  throw SolverError(fmt::format("shell modal analysis: subspace iteration did not converge in {} iterations",
-                                options.max_iterations));
+  throw SolverError(fmt::format("shell modal analysis: subspace iteration did not converge in {} iterations "
+                                "to a relative eigenvalue change of {:.3g}; allow more iterations or a "
+                                "larger tolerance",
+                                options.max_iterations, options.tolerance));
 }
 
 }  // namespace shellflow::shell

@@ -1,0 +1,196 @@
+// `shellflow flutter`: linear flutter analysis of a case's shell with piston theory
+// (coupling/linear_flutter.h, docs/flutter.md): the root locus against lambda or Mach, the
+// critical point, flutter_locus.csv, flutter.json and flutter_locus.png.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+
+#include "commands.h"
+#include "output_dir.h"
+#include "shellflow/core/error.h"
+#include "shellflow/coupling/linear_flutter.h"
+#include "shellflow/io/case_meshes.h"
+#include "shellflow/setup/fluid_setup.h"
+#include "shellflow/setup/shell_setup.h"
+
+namespace shellflow::app {
+namespace {
+
+/// JSON number; non-finite values are null.
+std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : "null"; }
+
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char ch : s) {
+    if (ch == '"' || ch == '\\') out += '\\';
+    if (static_cast<unsigned char>(ch) < 0x20) {
+      out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+      continue;
+    }
+    out += ch;
+  }
+  return out + "\"";
+}
+
+/// The case reduced to what the analysis reads: the shell mesh (a coupled case's fluid and
+/// space meshes are not generated).
+io::Case shell_only(io::Case c) {
+  c.meshes.fluid.reset();
+  c.meshes.space.reset();
+  std::erase_if(c.group_references, [](const io::GroupReference& g) { return g.mesh != "shell"; });
+  return c;
+}
+
+struct Result {
+  coupling::FlutterSweep sweep;
+  double lo = 0.0, hi = 0.0;
+  std::optional<double> half_modes_critical;  ///< lambda_cr (or M_cr) on the first half of the modes
+};
+
+}  // namespace
+
+int flutter_command(const CommonOptions& common, const FlutterOptions& options) {
+  const io::Case full = read_case(common);
+  const auto where = common.case_file.string();
+  if (!full.shell)
+    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'shell' section (the panel)", where));
+  if (!full.fluid)
+    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
+                                 "(density, pressure, mach, direction) for piston theory", where));
+  if (!(full.fluid->free_stream.mach > 1.0))
+    throw InputError(fmt::format("{}: fluid.free_stream.mach is {}; piston theory needs a supersonic stream "
+                                 "(mach > 1)", where, full.fluid->free_stream.mach));
+  const io::Case c = shell_only(full);
+  const auto outdir = prepare_output_dir(c, common);
+  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
+  const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
+
+  const fluid::Primitive inf = setup::free_stream(*c.fluid);
+  coupling::PistonTheoryFlow flow;
+  flow.density = inf.rho;
+  flow.speed = inf.velocity.norm();
+  flow.mach = c.fluid->free_stream.mach;
+  flow.direction = c.fluid->free_stream.direction;
+  // The wetted face does not enter the linear matrices (sign^2 = 1).
+  flow.wet_normal = c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal : model.directors()[0];
+  const coupling::PistonTheory theory(model, flow);
+
+  coupling::FlutterSetting setting;
+  setting.length = coupling::panel_length(model, flow.direction);
+  const auto& mat = c.shell->material;
+  setting.bending_stiffness = mat.young_modulus * std::pow(c.shell->thickness, 3) /
+                              (12.0 * (1.0 - mat.poisson_ratio * mat.poisson_ratio));
+  setting.density = c.fluid->free_stream.density;
+  setting.pressure = c.fluid->free_stream.pressure;
+  setting.gamma = c.fluid->gas.gamma;
+  setting.mach = flow.mach;
+  setting.aerodynamic_damping = !options.no_aerodynamic_damping;
+  if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
+    throw Error("--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
+                "pressure has the damping of its speed)");
+
+  const int modes = options.direct ? 0 : options.modes;
+  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({})",
+               c.name, setting.length, setting.bending_stiffness,
+               setting.mass_ratio_over_mach(mat.density, c.shell->thickness),
+               modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
+               options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
+  const coupling::LinearFlutterSystem system(model, theory, modes);
+  if (!options.direct)
+    spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", system.in_vacuo_frequencies().front(),
+                 system.in_vacuo_frequencies().back());
+  else
+    spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", system.size());
+
+  Result r;
+  // The full system's highest roots are the mesh's thickness-stretch modes (MHz), which piston
+  // theory destabilises: with --direct only the --modes roots of lowest frequency count.
+  const int tracked = options.direct ? options.modes : 0;
+  const bool by_lambda = options.parameter == coupling::FlutterParameter::lambda;
+  const double lambda_case = setting.lambda_of_mach(setting.mach);
+  r.lo = options.range ? options.range->first : by_lambda ? 0.0 : 1.2;
+  r.hi = options.range ? options.range->second
+         : by_lambda   ? std::max(1000.0, 2.0 * lambda_case)
+                       : std::max(3.0, 2.0 * setting.mach);
+  if (!by_lambda && !(r.lo > 1.0))
+    throw Error(fmt::format("--range {} {}: a Mach sweep must stay above Mach 1 (piston theory)", r.lo, r.hi));
+  for (int widen = 0;; ++widen) {
+    r.sweep = coupling::sweep_flutter(system, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked);
+    if (r.sweep.critical || options.range || widen == 3) break;
+    spdlog::info("no flutter boundary up to {} = {:.6g}; widening the range", coupling::to_string(options.parameter),
+                 r.hi);
+    r.hi = r.lo + 2.0 * (r.hi - r.lo);
+  }
+  if (!options.direct && modes >= 4 && r.sweep.critical) {
+    // Truncation check: the same sweep on the first half of the modes.
+    const auto half = system.truncated(modes / 2);
+    const auto s = coupling::sweep_flutter(half, setting, options.parameter, r.lo, r.hi, options.points);
+    if (s.critical) r.half_modes_critical = s.critical->value;
+  }
+  auto case_roots = system.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
+  if (tracked > 0 && case_roots.size() > std::size_t(tracked)) case_roots.resize(std::size_t(tracked));
+  const auto least_stable = *std::max_element(case_roots.begin(), case_roots.end(),
+                                              [](const auto& a, const auto& b) { return a.real() < b.real(); });
+
+  // flutter_locus.csv: one row per root and parameter value.
+  {
+    std::ofstream csv(outdir / "flutter_locus.csv");
+    csv << "value,lambda,mach,root,growth_rate,frequency_hz,damping_g\n";
+    for (const auto& p : r.sweep.points)
+      for (std::size_t k = 0; k < p.eigenvalues.size(); ++k) {
+        const auto s = p.eigenvalues[k];
+        const double g = s.imag() != 0.0 ? 2.0 * s.real() / s.imag() : std::nan("");
+        csv << fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, num(p.mach), k + 1,
+                           s.real(), s.imag() / (2.0 * std::numbers::pi), num(g));
+      }
+    if (!csv) throw Error(fmt::format("{}: cannot write flutter_locus.csv", outdir.string()));
+  }
+  const auto& cr = r.sweep.critical;
+  std::string freqs;
+  for (const double f : system.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + num(f);
+  const std::string json = fmt::format(
+      "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"points\": {}, \"modes\": {}, "
+      "\"aerodynamic_damping\": {}, \"panel_length\": {}, \"bending_stiffness\": {}, \"mu_over_mach\": {}, "
+      "\"lambda_case\": {}, \"mach_case\": {}, \"case_growth_rate\": {}, \"case_frequency_hz\": {}, "
+      "\"lambda_cr\": {}, \"mach_cr\": {}, \"frequency_hz\": {}, \"critical_value\": {}, "
+      "\"critical_value_half_modes\": {}, \"in_vacuo_frequencies_hz\": [{}]}}",
+      json_string(c.name), coupling::to_string(options.parameter), num(r.lo), num(r.hi), options.points, modes,
+      setting.aerodynamic_damping ? "true" : "false", num(setting.length), num(setting.bending_stiffness),
+      num(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)), num(lambda_case), num(setting.mach),
+      num(least_stable.real()), num(std::abs(least_stable.imag()) / (2.0 * std::numbers::pi)),
+      cr ? num(cr->lambda) : "null", cr ? num(cr->mach) : "null", cr ? num(cr->frequency_hz) : "null",
+      cr ? num(cr->value) : "null", r.half_modes_critical ? num(*r.half_modes_critical) : "null", freqs);
+  {
+    std::ofstream out(outdir / "flutter.json");
+    out << json << '\n';
+    if (!out) throw Error(fmt::format("{}: cannot write flutter.json", outdir.string()));
+  }
+  if (cr) {
+    spdlog::info("flutter boundary: lambda_cr = {:.6g}, Mach_cr = {:.6g} (at rho = {:.6g} kg/m^3, p = {:.6g} Pa), "
+                 "{:.6g} Hz{}",
+                 cr->lambda, cr->mach, setting.density, setting.pressure, cr->frequency_hz,
+                 r.half_modes_critical ? fmt::format(" ({} modes: {} = {:.6g})", modes / 2,
+                                                     coupling::to_string(options.parameter), *r.half_modes_critical)
+                                       : "");
+  } else {
+    spdlog::warn("no flutter boundary in {} = [{:.6g}, {:.6g}]; give a wider --range",
+                 coupling::to_string(options.parameter), r.lo, r.hi);
+  }
+  spdlog::info("the case's flow (lambda = {:.6g}, Mach {:.4g}): least stable root {:.6g} 1/s at {:.6g} Hz; wrote "
+               "{}: flutter_locus.csv, flutter.json",
+               lambda_case, setting.mach, least_stable.real(), std::abs(least_stable.imag()) / (2.0 * std::numbers::pi),
+               outdir.string());
+  if (options.json) std::printf("%s\n", json.c_str());
+  if (common.plot)
+    make_plot("plot_flutter_locus.py", {(outdir / "flutter_locus.csv").string(), "--summary",
+                                        (outdir / "flutter.json").string(), "-o",
+                                        (outdir / "flutter_locus.png").string()},
+              options.json);
+  return 0;
+}
+
+}  // namespace shellflow::app

@@ -1,0 +1,234 @@
+#include "shellflow/coupling/linear_flutter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::coupling {
+
+namespace {
+
+Eigen::MatrixXd restrict(const shell::SparseMatrix& S, const std::vector<Eigen::Index>& rows,
+                         const std::vector<Eigen::Index>& cols) {
+  const Eigen::MatrixXd dense(S);
+  Eigen::MatrixXd out(Eigen::Index(rows.size()), Eigen::Index(cols.size()));
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    for (std::size_t j = 0; j < cols.size(); ++j) out(Eigen::Index(i), Eigen::Index(j)) = dense(rows[i], cols[j]);
+  return out;
+}
+
+}  // namespace
+
+LinearFlutterSystem::LinearFlutterSystem(const shell::ShellModel& model, const PistonTheory& theory, int modes,
+                                         const shell::ModalOptions& options)
+    : modal_(modes > 0) {
+  if (model.has_local_frames())
+    throw_input_error("linear flutter analysis: supports along rotated directions are not supported yet; "
+                      "use supports along the global axes");
+  shell::SparseMatrix A1, D1;
+  theory.matrices(A1, D1, 1.0, 1.0);
+  if (modal_) {
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
+    const shell::ModalResult m = shell::natural_frequencies(model, modes, zero, options);
+    Eigen::MatrixXd Phi(model.num_dofs(), modes);
+    for (int i = 0; i < modes; ++i) Phi.col(i) = m.modes[std::size_t(i)];
+    frequencies_ = m.frequencies;
+    K_ = Eigen::MatrixXd::Zero(modes, modes);
+    for (int i = 0; i < modes; ++i) K_(i, i) = std::pow(2.0 * std::numbers::pi * m.frequencies[std::size_t(i)], 2);
+    A_ = Phi.transpose() * (A1 * Phi);
+    D_ = Phi.transpose() * (D1 * Phi);
+    return;
+  }
+  // Full system: the free dofs that carry mass (positions, directors) keep their rows; the
+  // massless ones (the thickness parameter, shell.md §6) are condensed out of K. Piston
+  // theory loads and reads positions only, so A and D need no condensation.
+  shell::SparseMatrix K = model.make_matrix(), M = model.make_matrix();
+  Eigen::VectorXd f;
+  model.assemble(Eigen::VectorXd::Zero(model.num_dofs()), f, &K);
+  model.assemble_mass(M);
+  const auto& fixed = model.constrained();
+  const Eigen::VectorXd diag = M.diagonal();
+  std::vector<Eigen::Index> mass, massless;
+  for (Eigen::Index i = 0; i < model.num_dofs(); ++i) {
+    if (fixed[std::size_t(i)]) continue;
+    (diag(i) > 0.0 ? mass : massless).push_back(i);
+  }
+  Eigen::MatrixXd Kmm = restrict(K, mass, mass);
+  if (!massless.empty()) {
+    const Eigen::MatrixXd Kma = restrict(K, mass, massless);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(restrict(K, massless, massless));
+    Kmm -= Kma * lu.solve(Kma.transpose());
+  }
+  // M = L L^T: with q = L^-T y the mass becomes the identity.
+  const Eigen::LLT<Eigen::MatrixXd> llt(restrict(M, mass, mass));
+  if (llt.info() != Eigen::Success)
+    throw SolverError("linear flutter analysis: the mass matrix of the free dofs is not positive definite");
+  const auto scale = [&](Eigen::MatrixXd X) {
+    llt.matrixL().solveInPlace(X);
+    X.transposeInPlace();
+    llt.matrixL().solveInPlace(X);
+    return Eigen::MatrixXd(X.transpose());  // L^-1 X L^-T
+  };
+  K_ = scale(Kmm);
+  A_ = scale(restrict(A1, mass, mass));
+  D_ = scale(restrict(D1, mass, mass));
+}
+
+LinearFlutterSystem LinearFlutterSystem::truncated(int k) const {
+  if (!modal_ || k < 1 || k > K_.rows())
+    throw SolverError(fmt::format("linear flutter analysis: cannot truncate a {} system of {} to {} modes",
+                                  modal_ ? "modal" : "full", K_.rows(), k));
+  LinearFlutterSystem t;
+  t.K_ = K_.topLeftCorner(k, k);
+  t.A_ = A_.topLeftCorner(k, k);
+  t.D_ = D_.topLeftCorner(k, k);
+  t.frequencies_.assign(frequencies_.begin(), frequencies_.begin() + k);
+  return t;
+}
+
+std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(double q_stiffness, double q_damping) const {
+  const Eigen::Index n = K_.rows();
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  std::vector<std::complex<double>> s;
+  if (modal_) {
+    S.topRightCorner(n, n).setIdentity();
+    S.bottomLeftCorner(n, n) = -(K_ + q_stiffness * A_);
+    S.bottomRightCorner(n, n) = -q_damping * D_;
+  } else {
+    // The full system's roots span ~1e3 to ~1e7 rad/s: the QR iteration's error ~ eps ||S||
+    // would swamp the panel's roots. Its inverse [-Kq^-1 C, -Kq^-1; I, 0] has them as its
+    // largest eigenvalues 1/s, to round-off relative to themselves.
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K_ + q_stiffness * A_);
+    S.topLeftCorner(n, n) = -lu.solve(q_damping * D_);
+    S.topRightCorner(n, n) = -lu.inverse();
+    S.bottomLeftCorner(n, n).setIdentity();
+  }
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(S, false);
+  if (es.info() != Eigen::Success) throw SolverError("linear flutter analysis: the eigenvalue solver failed");
+  for (const auto& z : es.eigenvalues()) s.push_back(modal_ ? z : 1.0 / z);
+  // One root per dof: the n of largest Im s (a real pair keeps its larger root).
+  std::sort(s.begin(), s.end(), [](const auto& a, const auto& b) {
+    return a.imag() != b.imag() ? a.imag() > b.imag() : a.real() > b.real();
+  });
+  s.resize(std::size_t(n));
+  std::sort(s.begin(), s.end(), [](const auto& a, const auto& b) {
+    return a.imag() != b.imag() ? a.imag() < b.imag() : a.real() < b.real();
+  });
+  return s;
+}
+
+double LinearFlutterSystem::max_growth_rate(double q_stiffness, double q_damping) const {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const auto& s : eigenvalues(q_stiffness, q_damping)) best = std::max(best, s.real());
+  return best;
+}
+
+std::pair<double, double> FlutterSetting::coefficients(FlutterParameter p, double value) const {
+  const double m = p == FlutterParameter::mach ? value : mach;
+  const double m2 = m * m, beta = std::sqrt(m2 - 1.0), c = (m2 - 2.0) / (m2 - 1.0);
+  if (p == FlutterParameter::mach) {
+    const double U = m * std::sqrt(gamma * pressure / density);
+    return {density * U * U / beta, density * U * c / beta};
+  }
+  // lambda at the case's rho and M: U from qA = rho U^2 / beta.
+  const double qA = value * bending_stiffness / std::pow(length, 3);
+  const double U = std::sqrt(std::max(qA, 0.0) * beta / density);
+  return {qA, aerodynamic_damping ? density * U * c / beta : 0.0};
+}
+
+double FlutterSetting::lambda_of_mach(double m) const {
+  return gamma * pressure * m * m / std::sqrt(m * m - 1.0) * std::pow(length, 3) / bending_stiffness;
+}
+
+double FlutterSetting::mach_of_lambda(double lambda) const {
+  // lambda(M) = k M^2 / sqrt(M^2 - 1), k = gamma p a^3 / D: with x = M^2 - 1,
+  // (x + 1)^2 = (lambda / k)^2 x, the root x >= 1 (M >= sqrt 2).
+  const double r = lambda / (gamma * pressure * std::pow(length, 3) / bending_stiffness);
+  const double b = r * r - 2.0;  // x^2 - b x + 1 = 0
+  if (!(b >= 2.0)) return std::numeric_limits<double>::quiet_NaN();
+  const double x = 0.5 * (b + std::sqrt(b * b - 4.0));
+  return std::sqrt(x + 1.0);
+}
+
+double FlutterSetting::mass_ratio_over_mach(double shell_density, double thickness) const {
+  return density * length / (shell_density * thickness * mach);
+}
+
+FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting,
+                           FlutterParameter parameter, double lo, double hi, int points,
+                           double relative_tolerance, int tracked_roots) {
+  if (!(hi > lo) || points < 2)
+    throw_input_error("linear flutter analysis: the range [{}, {}] with {} points is empty; give lo < hi "
+                      "and at least 2 points", lo, hi, points);
+  FlutterSweep sweep;
+  sweep.parameter = parameter;
+  const auto evaluate = [&](double value) {
+    FlutterPoint p;
+    p.value = value;
+    const auto [qA, qD] = setting.coefficients(parameter, value);
+    p.eigenvalues = system.eigenvalues(qA, qD);
+    if (tracked_roots > 0 && p.eigenvalues.size() > std::size_t(tracked_roots))
+      p.eigenvalues.resize(std::size_t(tracked_roots));
+    for (const auto& s : p.eigenvalues) p.scale = std::max(p.scale, std::abs(s));
+    p.lambda = parameter == FlutterParameter::lambda ? value : setting.lambda_of_mach(value);
+    p.mach = parameter == FlutterParameter::mach ? value : setting.mach_of_lambda(value);
+    return p;
+  };
+  // Unstable: a root with sigma above round-off (undamped roots below the coalescence are
+  // imaginary up to ~1e-13 max |s|).
+  const auto unstable = [](const FlutterPoint& p) {
+    for (const auto& s : p.eigenvalues)
+      if (s.real() > 1e-8 * p.scale) return true;
+    return false;
+  };
+  for (int i = 0; i < points; ++i) sweep.points.push_back(evaluate(lo + (hi - lo) * i / (points - 1)));
+  for (std::size_t i = 1; i < sweep.points.size(); ++i) {
+    if (!unstable(sweep.points[i]) || unstable(sweep.points[i - 1])) continue;
+    double a = sweep.points[i - 1].value, b = sweep.points[i].value;
+    FlutterPoint upper = sweep.points[i];
+    FlutterCritical c;
+    while (b - a > relative_tolerance * std::abs(b) && c.bisections < 200) {
+      const double mid = 0.5 * (a + b);
+      FlutterPoint p = evaluate(mid);
+      if (unstable(p)) {
+        b = mid;
+        upper = std::move(p);
+      } else {
+        a = mid;
+      }
+      ++c.bisections;
+    }
+    c.value = b;
+    c.lambda = upper.lambda;
+    c.mach = upper.mach;
+    const auto crossing = std::max_element(upper.eigenvalues.begin(), upper.eigenvalues.end(),
+                                           [](const auto& x, const auto& y) { return x.real() < y.real(); });
+    c.frequency_hz = std::abs(crossing->imag()) / (2.0 * std::numbers::pi);
+    sweep.critical = c;
+    break;
+  }
+  return sweep;
+}
+
+double panel_length(const shell::ShellModel& model, const Vec3& direction) {
+  const Vec3 d = direction.normalized();
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Vec3& x : model.mesh().nodes) {
+    lo = std::min(lo, x.dot(d));
+    hi = std::max(hi, x.dot(d));
+  }
+  return hi - lo;
+}
+
+std::string to_string(FlutterParameter p) { return p == FlutterParameter::lambda ? "lambda" : "mach"; }
+
+}  // namespace shellflow::coupling

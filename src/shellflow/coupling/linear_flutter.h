@@ -1,0 +1,120 @@
+#pragma once
+// Linear flutter analysis (docs/flutter.md): the shell linearised about its flat reference
+// state plus first-order piston theory,
+//   M q'' + qD D1 q' + (K + qA A1) q = 0,
+// with A1, D1 the piston-theory matrices per unit coefficient (piston_theory.h) and
+//   qA = rho U^2 / beta,   qD = rho U (M^2 - 2) / ((M^2 - 1) beta),   beta = sqrt(M^2 - 1).
+// Solutions q ~ exp(s t), s = sigma + i omega: the panel flutters when some sigma > 0.
+//
+// The eigenproblem is solved on a basis of the first `modes` in-vacuo modes (M-orthonormal,
+// so M -> I and K -> diag(omega_k^2)): a 2K x 2K dense state matrix per parameter value,
+// microseconds each. The full system (every free dof, the massless thickness parameter
+// condensed out statically) is available for checking the truncation on small meshes: its
+// dense state matrix is 2 n_mass wide, O(n^3) per value.
+//
+// Parameters (the conventions of Dowell, "Aeroelasticity of plates and shells", 1975):
+//   lambda = rho U^2 a^3 / (beta D) = qA a^3 / D,   D = E h^3 / (12 (1 - nu^2)),
+// a the panel length along the flow. A sweep in lambda keeps rho and M of the case (the
+// aerodynamic damping grows like sqrt(lambda), Dowell's fixed mu/M), or drops the damping
+// (mu/M -> 0, the classical coalescence values). A sweep in Mach keeps rho and p of the case
+// (fixed altitude): U = M sqrt(gamma p / rho).
+#include <complex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "shellflow/coupling/piston_theory.h"
+#include "shellflow/shell/modal.h"
+#include "shellflow/shell/shell_model.h"
+
+namespace shellflow::coupling {
+
+/// The reduced (or full) linear system of shell + piston theory, per unit coefficients.
+class LinearFlutterSystem {
+ public:
+  /// `modes` > 0: a basis of that many in-vacuo modes; `modes` == 0: the full system.
+  /// Throws InputError for supports along rotated directions (not handled yet) and
+  /// SolverError when the supported stiffness is singular.
+  LinearFlutterSystem(const shell::ShellModel& model, const PistonTheory& theory, int modes,
+                      const shell::ModalOptions& options = {});
+
+  /// The eigenvalues s with Im s >= 0, one per degree of freedom of the basis (complex pairs
+  /// counted once, real roots by their larger half), ordered by Im s, then Re s.
+  std::vector<std::complex<double>> eigenvalues(double q_stiffness, double q_damping) const;
+  /// max Re s (the growth rate of the least stable root) [1/s].
+  double max_growth_rate(double q_stiffness, double q_damping) const;
+
+  /// The system on the first k modes of this modal basis (the truncation check).
+  LinearFlutterSystem truncated(int k) const;
+
+  Eigen::Index size() const { return static_cast<Eigen::Index>(K_.rows()); }
+  bool modal() const { return modal_; }
+  /// In-vacuo frequencies of the basis [Hz] (modal basis only; empty for the full system).
+  const std::vector<double>& in_vacuo_frequencies() const { return frequencies_; }
+
+ private:
+  LinearFlutterSystem() = default;
+  bool modal_ = true;
+  // M^-1-scaled matrices: the state matrix is [0 I; -(K + qA A) -qD D].
+  Eigen::MatrixXd K_, A_, D_;
+  std::vector<double> frequencies_;
+};
+
+enum class FlutterParameter { lambda, mach };
+
+/// The panel and flow quantities a sweep needs.
+struct FlutterSetting {
+  double length = 0.0;             ///< a: panel length along the flow [m]
+  double bending_stiffness = 0.0;  ///< D [N m]
+  double density = 0.0;            ///< rho_inf [kg/m^3]
+  double pressure = 0.0;           ///< p_inf [Pa]
+  double gamma = 1.4;
+  double mach = 0.0;               ///< the case's Mach number
+  bool aerodynamic_damping = true;  ///< false: mu/M -> 0 (lambda sweeps only)
+
+  /// The piston-theory coefficients at a parameter value.
+  std::pair<double, double> coefficients(FlutterParameter p, double value) const;
+  double lambda_of_mach(double mach) const;   ///< at fixed rho, p
+  /// The Mach number above sqrt(2) (where lambda grows with M) at fixed rho, p; NaN when
+  /// lambda is below the minimum of lambda(M) (at M = sqrt(2)).
+  double mach_of_lambda(double lambda) const;
+  double mass_ratio_over_mach(double shell_density, double thickness) const;  ///< mu/M = rho a/(rho_m h M)
+};
+
+struct FlutterPoint {
+  double value = 0.0;  ///< the parameter
+  double lambda = 0.0, mach = 0.0;
+  std::vector<std::complex<double>> eigenvalues;
+  double scale = 0.0;  ///< max |s| of the roots kept (the round-off scale of sigma)
+};
+
+struct FlutterCritical {
+  double value = 0.0;         ///< the parameter at the boundary
+  double lambda = 0.0, mach = 0.0;
+  double frequency_hz = 0.0;  ///< of the root that crosses
+  int bisections = 0;
+};
+
+struct FlutterSweep {
+  FlutterParameter parameter = FlutterParameter::lambda;
+  std::vector<FlutterPoint> points;
+  std::optional<FlutterCritical> critical;  ///< the lowest crossing in the range
+};
+
+/// Evaluates `points` equally spaced values in [lo, hi], then bisects the first interval
+/// where the least stable root becomes unstable (sigma > 1e-8 max |s|) to a relative width
+/// `relative_tolerance` of the parameter. `tracked_roots` > 0: only the that many roots of
+/// lowest frequency count (and are kept in the points) — for the full system, whose highest
+/// roots are the mesh's thickness-stretch modes.
+FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting,
+                           FlutterParameter parameter, double lo, double hi, int points,
+                           double relative_tolerance = 1e-9, int tracked_roots = 0);
+
+/// The panel length along `direction`: the extent of the shell's nodes.
+double panel_length(const shell::ShellModel& model, const Vec3& direction);
+
+std::string to_string(FlutterParameter p);
+
+}  // namespace shellflow::coupling
