@@ -80,6 +80,9 @@ int run_command(const CommonOptions& options) {
   const auto outdir = prepare_output_dir(c, options);
   spdlog::info("case '{}' -> {}", c.name, outdir.string());
   const io::CaseMeshes meshes = io::load_case_meshes(c, outdir);
+  // Only once the case is read and meshed (a case with an error keeps the old results), and
+  // only here, not for `study` (its folder holds points/ and study.csv of a study to resume).
+  remove_previous_run_output(outdir);
   const InitialState state = initial_state(c, meshes);
   io::ProbeSet probes(c.probes, meshes, outdir / "probes.csv");
 

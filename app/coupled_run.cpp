@@ -70,7 +70,7 @@ class MeshWriter {
       min_q = std::min(min_q, q[e]);
       mean += q[e] / static_cast<double>(q.size());
       ratio = std::min(ratio, q[e] / q0_[e]);
-      inverted += q[e] <= 0.0;
+      inverted += !(q[e] > 0.0);  // a NaN quality (NaN positions) is invalid too
     }
     const auto& sm = dynamic_cast<const motion::SpaceMeshMover&>(s_.flow->mover()).space_mesh();
     return {min_q, mean, ratio, inverted, sm.min_relative_jacobian()};

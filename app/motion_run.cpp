@@ -128,10 +128,10 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
     Index inverted = 0, worst = 0;
     double min_q = q.empty() ? 0.0 : q[0], mean_q = 0.0, min_ratio = 1e300;
     for (std::size_t e = 0; e < q.size(); ++e) {
-      inverted += q[e] <= 0.0;
+      inverted += !(q[e] > 0.0);  // a NaN quality (NaN positions) is invalid too
       mean_q += q[e] / static_cast<double>(q.size());
       min_ratio = std::min(min_ratio, q[e] / q0[e]);
-      if (q[e] < min_q) {
+      if (q[e] < min_q || (std::isnan(q[e]) && !std::isnan(min_q))) {
         min_q = q[e];
         worst = static_cast<Index>(e);
       }

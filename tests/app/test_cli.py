@@ -943,6 +943,105 @@ class InputHardening(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(out, "meshes.png")) > 1000)
 
 
+    # ---- non-finite values name their key, the time and the cause (issue 14, defect 6) ----
+
+    STRIP_DYNAMIC = os.path.join(ROOT, "cases", "shell", "strip_free_vibration.yaml")
+    ENTROPY_WAVE = os.path.join(ROOT, "cases", "fluid", "entropy_wave.yaml")
+
+    def assert_non_finite(self, r, *needles, wrong=()):
+        message = self.assert_one_line(r, *needles, "the expression must stay finite over the run")
+        for cause in wrong:
+            self.assertNotIn(cause, message)
+        return message
+
+    def test_a_nan_mode_amplitude_stops_the_mesh_motion_naming_key_and_time(self):
+        with open(os.path.join(ROOT, "cases", "motion", "panel_single_mode.yaml")) as f:
+            text = f.read()
+        text = text.replace("../panel_flutter", os.path.join(ROOT, "cases", "panel_flutter"))
+        ramp = "{ type: ramp, value: 0.12, duration: 1.0 }"
+        self.assertIn(ramp, text)
+        text = text.replace(ramp, '{ type: expression, value: "0.02*sqrt(0.1 - t)" }')
+        case = self.write("nan_amplitude.yaml", text)
+        out = os.path.join(self.dir, "out")
+        # Steps at 0.04 s: finite at 0, 0.04, 0.08, NaN at 0.12 (no step lands on 0.1).
+        r = shellflow("run", case, "-o", out, "--no-plot", "--set", "time.end=0.2", "--set", "time.step=0.04")
+        self.assert_non_finite(r, "nan_amplitude.yaml:%d: motion.prescribed.modes[0].amplitude: is NaN at t = 0.12 s"
+                               % line_of(text, "sqrt(0.1 - t)"), "(sqrt of a negative number?)",
+                               wrong=("valid throughout",))
+        self.assertNotIn("valid throughout", r.stderr)
+        # The states before stay readable.
+        import xml.etree.ElementTree as ET
+        files = [d.get("file") for d in ET.parse(os.path.join(out, "fluid.pvd")).getroot().iter("DataSet")]
+        self.assertEqual(files[0], "fluid_000000.vtu")
+        for name in files:
+            self.assertTrue(os.path.exists(os.path.join(out, name)), name)
+        self.assertEqual([f for f in os.listdir(out) if f.endswith(".tmp")], [])
+
+    def test_a_nan_shell_load_names_the_load_function_not_the_solver(self):
+        out = os.path.join(self.dir, "out")
+        line = line_of(open(self.STRIP_DYNAMIC).read(), "load_function")
+        # NaN from the start: was "the mass matrix is singular".
+        r = shellflow("run", self.STRIP_DYNAMIC, "-o", out, "--no-plot", "--set", "time.end=0.002",
+                      "--set", 'shell.analysis.load_function={type: expression, value: "sqrt(-1)"}')
+        self.assert_non_finite(r, "strip_free_vibration.yaml:%d: shell.analysis.load_function: is NaN at t = 0 s" % line,
+                               "(sqrt of a negative number?)", wrong=("mass matrix", "Newton"))
+        # NaN from t = 1 ms (the second step at dt = 0.5 ms): was "Newton did not converge".
+        r = shellflow("run", self.STRIP_DYNAMIC, "-o", out, "--no-plot", "--set", "time.end=0.003",
+                      "--set", 'shell.analysis.load_function={type: expression, value: "(t - 0.001)/(t - 0.001)"}')
+        self.assert_non_finite(r, "shell.analysis.load_function: is NaN at t = 0.001 s", "(division by zero?)",
+                               wrong=("mass matrix", "Newton", "time step"))
+        with open(os.path.join(out, "probes.csv")) as f:
+            rows = f.read().splitlines()
+        self.assertEqual(len(rows), 3)  # the header, t = 0 and t = 0.5 ms: whole rows only
+
+    def test_an_infinite_initial_density_names_the_key_not_the_cfl_number(self):
+        out = os.path.join(self.dir, "out")
+        r = shellflow("run", self.ENTROPY_WAVE, "-o", out, "--no-plot", "--set", "time.end=0.01",
+                      "--set", 'fluid.analysis.initial={density: "1e200*1e200*(1 + x)", velocity: [2, 0, 0], pressure: 1}')
+        self.assert_non_finite(r, "entropy_wave.yaml:", "fluid.analysis.initial.density: is inf at (x, y, z) = (",
+                               "t = 0 s", "(overflow in a product?)", wrong=("CFL", "cfl"))
+        # A prescribed fluid mesh motion that turns NaN later.
+        r = shellflow("run", self.ENTROPY_WAVE, "-o", out, "--no-plot", "--set", "time.end=0.05",
+                      "--set", 'fluid.mesh_motion={displacement: ["0.05*sin(pi*x)*sqrt(0.01 - t)", 0, 0]}')
+        message = self.assert_non_finite(r, "fluid.mesh_motion.displacement[0]: is NaN at (x, y, z) = (",
+                                         "(sqrt of a negative number?)")
+        self.assertGreater(float(re.search(r"t = ([0-9.e+-]+) s", message).group(1)), 0.01)
+
+    # ---- a run removes the numbered output of an earlier run (issue 14, defect 7) ----
+
+    def test_a_shorter_run_into_the_same_folder_leaves_no_stale_frames(self):
+        out = os.path.join(self.dir, "out")
+        # 3 output frames after the initial one (every 10 steps of 0.5 ms).
+        r = shellflow("run", self.STRIP_DYNAMIC, "-o", out, "--no-plot", "--set", "time.end=0.015")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(os.path.exists(os.path.join(out, "shell_000030.vtu")))
+        kept = {"notes.txt": "mine", "shell_000003.txt": "mine too", "shell.vtu.bak": "x"}
+        for name, text in kept.items():
+            with open(os.path.join(out, name), "w") as f:
+                f.write(text)
+        with open(os.path.join(out, "shell_000040.vtu.tmp"), "w") as f:
+            f.write("left by a crash")
+        os.makedirs(os.path.join(out, "points", "mach_2"))  # folders are never touched
+        with open(os.path.join(out, "points", "mach_2", "shell_000001.vtu"), "w") as f:
+            f.write("a point's run")
+        r = shellflow("run", self.STRIP_DYNAMIC, "-o", out, "--no-plot", "--set", "time.end=0.005")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        # shell_000000/10/20/30.vtu, shell.pvd, probes.csv and the .tmp.
+        self.assertIn("removed 7 file(s) of an earlier run", r.stderr)
+        files = sorted(os.listdir(out))
+        self.assertEqual([f for f in files if f.startswith("shell_0") and f.endswith(".vtu")], ["shell_000000.vtu", "shell_000010.vtu"])
+        self.assertNotIn("shell_000040.vtu.tmp", files)
+        import xml.etree.ElementTree as ET
+        listed = [d.get("file") for d in ET.parse(os.path.join(out, "shell.pvd")).getroot().iter("DataSet")]
+        self.assertEqual(listed, ["shell_000000.vtu", "shell_000010.vtu"])
+        for name, text in kept.items():
+            with open(os.path.join(out, name)) as f:
+                self.assertEqual(f.read(), text)
+        self.assertTrue(os.path.exists(os.path.join(out, "points", "mach_2", "shell_000001.vtu")))
+        with open(os.path.join(out, "probes.csv")) as f:
+            self.assertEqual(len(f.read().splitlines()), 12)  # header + t = 0 + 10 steps
+
+
 class FlutterAnalysis(unittest.TestCase):
     """`shellflow flutter` (linear flutter analysis) and `shellflow study` (boundary search from
     time runs) on the piston-theory panel cases (docs/flutter.md)."""

@@ -444,3 +444,70 @@ TEST(Expression, DivisionByZeroGivesInfinityAndIsFoundBySampling) {
   EXPECT_FALSE(TimeFunction::expression("step(log(t))").is_finite_on(-1.0, 1.0, 2));
   EXPECT_THROW(g.first_non_finite(1.0, 0.0), InputError);
 }
+
+// The message of a named function that turns non-finite (issue 14): `WHERE: is NaN at t = ...`.
+std::string non_finite_message(const TimeFunction& f, double t, bool derivative = false) {
+  try {
+    if (derivative) {
+      (void)f.derivative(t);
+    } else {
+      (void)f.value(t);
+    }
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "(no error)";
+}
+
+TEST(TimeFunction, NamedFunctionsThrowWithTheKeyTheTimeAndTheCause) {
+  const std::string key = "case.yaml:31: motion.prescribed.modes[0].amplitude";
+  const TimeFunction f = TimeFunction::expression("0.02*sqrt(0.1 - t)").named(key);
+  EXPECT_EQ(f.where(), key);
+  EXPECT_DOUBLE_EQ(f.value(0.0), 0.02 * std::sqrt(0.1));  // finite: unchanged
+  EXPECT_EQ(non_finite_message(f, 0.1003),
+            key + ": is NaN at t = 0.1003 s (sqrt of a negative number?); the expression must stay finite over "
+                  "the run");
+  // At t = 0.1 the value is 0 but the rate is -inf.
+  EXPECT_EQ(f.value(0.1), 0.0);
+  EXPECT_EQ(non_finite_message(f, 0.1, true),
+            key + ": its rate d/dt is -inf at t = 0.1 s (sqrt of 0, whose slope is infinite?); the expression "
+                  "must stay finite over the run");
+  // The cause is found in constant parts too (folded when parsed), and for every operation.
+  const auto cause = [&](const char* text, double t) {
+    return non_finite_message(TimeFunction::expression(text).named("k"), t);
+  };
+  EXPECT_EQ(cause("sqrt(-1)", 0.0), "k: is NaN at t = 0 s (sqrt of a negative number?); the expression must stay finite over the run");
+  EXPECT_NE(cause("1/(t - 1)", 1.0).find("is inf at t = 1 s (division by zero?)"), std::string::npos);
+  EXPECT_NE(cause("log(t)", 0.0).find("is -inf at t = 0 s (log of 0?)"), std::string::npos);
+  EXPECT_NE(cause("log(t)", -1.0).find("(log of a negative number?)"), std::string::npos);
+  EXPECT_NE(cause("exp(1000*t)", 1.0).find("is inf at t = 1 s (overflow in exp?)"), std::string::npos);
+  EXPECT_NE(cause("1e200*1e200*t", 1.0).find("(overflow in a product?)"), std::string::npos);
+  EXPECT_NE(cause("(-2)^(t + 0.5)", 0.0).find("(a negative number to a non-integer power?)"), std::string::npos);
+  EXPECT_NE(cause("t^-2", 0.0).find("(0 to a negative power?)"), std::string::npos);
+  // The other kinds are checked too (without a cause); unnamed functions are not checked.
+  const TimeFunction huge = TimeFunction::sine(1e308, 1e10).named("k");
+  EXPECT_EQ(non_finite_message(huge, 0.0, true),
+            "k: its rate d/dt is inf at t = 0 s; the function must stay finite over the run");
+  EXPECT_TRUE(std::isnan(TimeFunction::expression("sqrt(-1)").value(0.0)));
+  // A named copy keeps its name; first_non_finite samples without throwing.
+  const TimeFunction shifted = f.shifted(1.0);
+  EXPECT_EQ(shifted.where(), key);
+  EXPECT_EQ(*f.first_non_finite(0.0, 0.2, 3), 0.1);
+}
+
+TEST(Expression, ExplainNonFiniteNamesTheFirstFailingOperation) {
+  constexpr std::array<std::string_view, 4> xyzt = {"x", "y", "z", "t"};
+  const Expression e = Expression::parse("1 + sqrt(x - 1)*log(t)", xyzt);
+  const std::array<double, 4> p = {0.0, 0.0, 0.0, 1.0};
+  EXPECT_EQ(e.explain_non_finite(p), "sqrt of a negative number");
+  const std::array<double, 4> q = {2.0, 0.0, 0.0, 1.0};
+  EXPECT_EQ(e.explain_non_finite(q), "");  // finite there
+  const std::array<double, 4> r = {2.0, 0.0, 0.0, 0.0};
+  EXPECT_EQ(e.explain_non_finite(r), "log of 0");
+  const std::array<double, 4> nan_point = {std::nan(""), 0.0, 0.0, 1.0};
+  EXPECT_EQ(e.explain_non_finite(nan_point), "");  // a variable itself is not finite
+  // With a variable: the derivative too (sqrt(x - 1) at x = 1 has an infinite slope in x).
+  const std::array<double, 4> s = {1.0, 0.0, 0.0, 2.0};
+  EXPECT_EQ(e.explain_non_finite(s), "");
+  EXPECT_EQ(e.explain_non_finite(s, 0), "sqrt of 0, whose slope is infinite");
+}

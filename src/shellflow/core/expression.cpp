@@ -144,45 +144,48 @@ T make(double value, [[maybe_unused]] double derivative) {
   }
 }
 
-// The stack machine, for T = double (values) or Dual (values and the derivatives with respect
-// to variable number `seed`): one switch per instruction. `stack` has room for the deepest
-// point of `code`.
+// One instruction of the stack machine, for T = double (values) or Dual (values and the
+// derivatives with respect to variable number `seed`); `top` is one past the last operand.
 template <class T>
-T run(const std::vector<Expression::Instruction>& code, std::span<const double> point,
-      int seed, T* stack) {
+inline void apply(const Expression::Instruction& in, std::span<const double> point, int seed, T*& top) {
   // std:: for double; for Dual, argument-dependent lookup finds the overloads above.
   using std::sin, std::cos, std::tan, std::exp, std::log, std::sqrt, std::abs, std::tanh, std::pow,
       std::atan2;
-  T* top = stack;  // one past the last operand
-  for (const Expression::Instruction& in : code) {
-    switch (in.op) {
-      case Op::constant: *top++ = make<T>(in.constant, 0.0); break;
-      case Op::variable:
-        *top++ = make<T>(point[static_cast<std::size_t>(in.index)], in.index == seed ? 1.0 : 0.0);
-        break;
-      case Op::negate: top[-1] = -top[-1]; break;
-      case Op::sin: top[-1] = sin(top[-1]); break;
-      case Op::cos: top[-1] = cos(top[-1]); break;
-      case Op::tan: top[-1] = tan(top[-1]); break;
-      case Op::exp: top[-1] = exp(top[-1]); break;
-      case Op::log: top[-1] = log(top[-1]); break;
-      case Op::sqrt: top[-1] = sqrt(top[-1]); break;
-      case Op::abs: top[-1] = abs(top[-1]); break;
-      case Op::tanh: top[-1] = tanh(top[-1]); break;
-      case Op::step: top[-1] = heaviside(top[-1]); break;
-      case Op::integer_power:
-        top[-1] = integer_power(top[-1], in.index);
-        break;
-      case Op::add: --top; top[-1] = top[-1] + top[0]; break;
-      case Op::subtract: --top; top[-1] = top[-1] - top[0]; break;
-      case Op::multiply: --top; top[-1] = top[-1] * top[0]; break;
-      case Op::divide: --top; top[-1] = top[-1] / top[0]; break;
-      case Op::power: --top; top[-1] = pow(top[-1], top[0]); break;
-      case Op::min: --top; top[-1] = minimum(top[-1], top[0]); break;
-      case Op::max: --top; top[-1] = maximum(top[-1], top[0]); break;
-      case Op::atan2: --top; top[-1] = atan2(top[-1], top[0]); break;
-    }
+  switch (in.op) {
+    case Op::constant: *top++ = make<T>(in.constant, 0.0); break;
+    case Op::variable:
+      *top++ = make<T>(point[static_cast<std::size_t>(in.index)], in.index == seed ? 1.0 : 0.0);
+      break;
+    case Op::negate: top[-1] = -top[-1]; break;
+    case Op::sin: top[-1] = sin(top[-1]); break;
+    case Op::cos: top[-1] = cos(top[-1]); break;
+    case Op::tan: top[-1] = tan(top[-1]); break;
+    case Op::exp: top[-1] = exp(top[-1]); break;
+    case Op::log: top[-1] = log(top[-1]); break;
+    case Op::sqrt: top[-1] = sqrt(top[-1]); break;
+    case Op::abs: top[-1] = abs(top[-1]); break;
+    case Op::tanh: top[-1] = tanh(top[-1]); break;
+    case Op::step: top[-1] = heaviside(top[-1]); break;
+    case Op::integer_power:
+      top[-1] = integer_power(top[-1], in.index);
+      break;
+    case Op::add: --top; top[-1] = top[-1] + top[0]; break;
+    case Op::subtract: --top; top[-1] = top[-1] - top[0]; break;
+    case Op::multiply: --top; top[-1] = top[-1] * top[0]; break;
+    case Op::divide: --top; top[-1] = top[-1] / top[0]; break;
+    case Op::power: --top; top[-1] = pow(top[-1], top[0]); break;
+    case Op::min: --top; top[-1] = minimum(top[-1], top[0]); break;
+    case Op::max: --top; top[-1] = maximum(top[-1], top[0]); break;
+    case Op::atan2: --top; top[-1] = atan2(top[-1], top[0]); break;
   }
+}
+
+// The stack machine: `stack` has room for the deepest point of `code`.
+template <class T>
+T run(const std::vector<Expression::Instruction>& code, std::span<const double> point,
+      int seed, T* stack) {
+  T* top = stack;  // one past the last operand
+  for (const Expression::Instruction& in : code) apply<T>(in, point, seed, top);
   return stack[0];
 }
 
@@ -229,8 +232,9 @@ constexpr std::array<std::string_view, 1> kTime = {"t"};
 //   primary := number | variable | 'pi' | 'e' | function '(' sum (',' sum)* ')' | '(' sum ')'
 class ExpressionParser {
  public:
-  ExpressionParser(std::string_view text, std::span<const std::string_view> variables)
-      : text_(text), variables_(variables.begin(), variables.end()) {
+  /// `fold` false keeps constant parts as they are written (for explain_non_finite).
+  ExpressionParser(std::string_view text, std::span<const std::string_view> variables, bool fold = true)
+      : text_(text), variables_(variables.begin(), variables.end()), fold_(fold) {
     for (std::size_t i = 0; i < variables_.size(); ++i) {
       const std::string_view v = variables_[i];
       const bool is_name = !v.empty() && is_name_start(v[0]) &&
@@ -431,7 +435,7 @@ class ExpressionParser {
       }
     }
     const auto n = static_cast<std::size_t>(arity(op));
-    bool constant = code_.size() >= n;
+    bool constant = fold_ && code_.size() >= n;
     for (std::size_t i = 0; constant && i < n; ++i)
       constant = code_[code_.size() - 1 - i].op == Op::constant;
     if (!constant) {
@@ -449,6 +453,7 @@ class ExpressionParser {
   std::string_view text_;
   std::vector<std::string_view> variables_;
   std::string variable_list_;  // "x, y, z, t, " for messages
+  bool fold_ = true;
   std::size_t pos_ = 0;
   int nesting_ = 0;
   std::vector<Expression::Instruction> code_;
@@ -474,6 +479,66 @@ void check_point(std::span<const double> point, const std::vector<std::string>& 
 double Expression::value(std::span<const double> point) const {
   check_point(point, variables_);
   return run<double>(code_, stack_size_, point, 0);
+}
+
+namespace {
+
+bool finite(const Dual& a) { return std::isfinite(a.v) && std::isfinite(a.d); }
+
+// What `op` did to the finite operands a (and b) to give the non-finite r.
+std::string cause(Op op, const Dual& a, const Dual& b, const Dual& r) {
+  if (std::isfinite(r.v)) {  // only the derivative
+    switch (op) {
+      case Op::sqrt: return "sqrt of 0, whose slope is infinite";
+      case Op::power:
+      case Op::integer_power: return "a power of 0 below 1, whose slope is infinite";
+      case Op::log: return "log of 0";
+      case Op::divide: return "division by zero";
+      default: return "an operation whose slope is infinite there";
+    }
+  }
+  switch (op) {
+    case Op::sqrt: return "sqrt of a negative number";
+    case Op::log: return a.v == 0.0 ? "log of 0" : "log of a negative number";
+    case Op::divide: return b.v == 0.0 ? "division by zero" : "overflow in a division";
+    case Op::power:
+      if (a.v == 0.0 && b.v < 0.0) return "0 to a negative power";
+      if (a.v < 0.0 && b.v != std::trunc(b.v)) return "a negative number to a non-integer power";
+      return "overflow in a power";
+    case Op::integer_power: return a.v == 0.0 ? "0 to a negative power" : "overflow in a power";
+    case Op::exp: return "overflow in exp";
+    case Op::tan: return "tan at a pole";
+    case Op::multiply: return "overflow in a product";
+    case Op::add:
+    case Op::subtract: return "overflow in a sum";
+    default: return "an operation out of its range";
+  }
+}
+
+}  // namespace
+
+std::string Expression::explain_non_finite(std::span<const double> point, int variable) const {
+  check_point(point, variables_);
+  // Unfolded code, so that a constant part such as sqrt(-1) is seen as the sqrt it is.
+  std::vector<std::string_view> names(variables_.begin(), variables_.end());
+  const Expression plain = ExpressionParser(text_, names, false).parse();
+  std::vector<Dual> stack(static_cast<std::size_t>(plain.stack_size_) + 1);
+  Dual* top = stack.data();
+  for (const Instruction& in : plain.code_) {
+    const int n = arity(in.op);
+    const Dual a = n >= 1 ? top[-n] : Dual{0.0, 0.0};
+    const Dual b = n >= 2 ? top[-1] : Dual{0.0, 0.0};
+    // Without a variable the derivative parts are all zero, or NaN after a division by 0.
+    const auto ok = [&](const Dual& x) { return variable < 0 ? std::isfinite(x.v) : finite(x); };
+    const bool operands_finite = (n < 1 || ok(a)) && (n < 2 || ok(b));
+    apply<Dual>(in, point, variable, top);
+    const Dual r = top[-1];
+    if (operands_finite && !ok(r)) {
+      if (in.op == Op::variable || in.op == Op::constant) return {};
+      return cause(in.op, a, b, r);
+    }
+  }
+  return {};
 }
 
 Expression::ValueAndDerivative Expression::evaluate(std::span<const double> point,

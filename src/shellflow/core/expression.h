@@ -53,6 +53,16 @@ class Expression {
   /// The value and the partial derivative with respect to variable number `variable`.
   ValueAndDerivative evaluate(std::span<const double> point, std::size_t variable) const;
 
+  /// Why the expression is not finite at `point` (its value, and with `variable` >= 0 its
+  /// derivative with respect to that variable too): the first operation that turns finite
+  /// operands into a non-finite result, e.g. "sqrt of a negative number", "division by zero",
+  /// "overflow in a product"; empty when it is finite there or a variable is not finite.
+  /// For messages only: it parses the text again (without constant folding).
+  std::string explain_non_finite(std::span<const double> point, int variable = -1) const;
+  std::string explain_non_finite(double t, int variable = -1) const {
+    return explain_non_finite(std::span<const double>(&t, 1), variable);
+  }
+
   const std::string& text() const { return text_; }
   const std::vector<std::string>& variables() const { return variables_; }
   /// True when the expression folded to one constant ("2*pi", not "0*t").

@@ -78,7 +78,28 @@ TimeFunction TimeFunction::expression(std::string text) {
   return f;
 }
 
-double TimeFunction::value(double t) const { return raw_value(t) + offset_; }
+double TimeFunction::value(double t) const {
+  const double v = raw_value(t) + offset_;
+  if (!where_.empty() && !std::isfinite(v)) fail_non_finite(t, v, false);
+  return v;
+}
+
+double TimeFunction::derivative(double t) const {
+  const double d = raw_derivative(t);
+  if (!where_.empty() && !std::isfinite(d)) fail_non_finite(t, d, true);
+  return d;
+}
+
+void TimeFunction::fail_non_finite(double t, double value, bool is_derivative) const {
+  const std::string what = std::isnan(value) ? "NaN" : (value > 0 ? "inf" : "-inf");
+  std::string cause;
+  if (kind_ == Kind::expression) cause = expression_.explain_non_finite(t, is_derivative ? 0 : -1);
+  if (cause.empty() && !std::isfinite(t)) cause = "the time itself is not finite";
+  throw InputError(fmt::format("{}: {} {} at t = {:.6g} s{}; the {} must stay finite over the run", where_,
+                               is_derivative ? "its rate d/dt is" : "is", what, t,
+                               cause.empty() ? std::string() : fmt::format(" ({}?)", cause),
+                               kind_ == Kind::expression ? "expression" : "function"));
+}
 
 double TimeFunction::raw_value(double t) const {
   switch (kind_) {
@@ -103,7 +124,7 @@ double TimeFunction::raw_value(double t) const {
   return 0.0;
 }
 
-double TimeFunction::derivative(double t) const {
+double TimeFunction::raw_derivative(double t) const {
   switch (kind_) {
     case Kind::constant: return 0.0;
     case Kind::ramp: return (t >= 0.0 && t < b_) ? a_ / b_ : 0.0;
@@ -136,7 +157,7 @@ std::optional<double> TimeFunction::first_non_finite(double t0, double t1, int s
   for (int i = 0; i < samples; ++i) {
     // The last sample is t1 itself, not t0 + (t1 - t0) * 1 with its rounding.
     const double t = i + 1 == samples ? t1 : t0 + (t1 - t0) * i / (samples - 1);
-    if (!std::isfinite(value(t)) || !std::isfinite(derivative(t))) return t;
+    if (!std::isfinite(raw_value(t) + offset_) || !std::isfinite(raw_derivative(t))) return t;
   }
   return std::nullopt;
 }

@@ -31,11 +31,25 @@ class TimeFunction {
   /// "0.1*sin(2*pi*20*t)"; throws InputError naming the column of a syntax error.
   static TimeFunction expression(std::string text);
 
+  /// f(t). On a named function (named()) a result that is not finite throws InputError.
   double value(double t) const;
   /// df/dt; at a kink (ramp start and end, table points) the right derivative, the rate
-  /// a motion starting at t has.
+  /// a motion starting at t has. Checked like value() on a named function.
   double derivative(double t) const;
   Kind kind() const { return kind_; }
+
+  /// The same function, named for messages by `where` (the case-file key it was read from,
+  /// e.g. `case.yaml:31: motion.prescribed.modes[0].amplitude`), whose value() and
+  /// derivative() check their result: one that is not finite throws InputError
+  /// `WHERE: is NaN at t = 0.1003 s (sqrt of a negative number?); the expression must stay
+  /// finite over the run`. The check sits here, where every load and prescribed motion reads
+  /// its function, so that a NaN stops the run with its cause instead of reaching a solver.
+  TimeFunction named(std::string where) const {
+    TimeFunction f = *this;
+    f.where_ = std::move(where);
+    return f;
+  }
+  const std::string& where() const { return where_; }
   /// f(t) + offset (same derivative), e.g. a pressure history relative to a reference.
   TimeFunction shifted(double offset) const {
     TimeFunction f = *this;
@@ -55,7 +69,10 @@ class TimeFunction {
   Kind kind_ = Kind::constant;
   double a_ = 0.0, b_ = 0.0, c_ = 0.0;
   double offset_ = 0.0;  ///< added to value()
+  std::string where_;    ///< empty: unchecked
   double raw_value(double t) const;
+  double raw_derivative(double t) const;
+  [[noreturn]] void fail_non_finite(double t, double value, bool is_derivative) const;
   std::vector<double> times_, values_;
   Expression expression_;
 };

@@ -102,9 +102,9 @@ constexpr std::array<std::string_view, 4> kSpaceTimeVariables = {"x", "y", "z", 
 /// A number or an expression of x, y, z, t (docs/case-format.md "Expressions"); `fail`
 /// reports a message at the value's line.
 template <class Fail>
-SpaceTimeScalar parse_space_time_scalar(std::string_view text, Fail&& fail) {
+SpaceTimeScalar parse_space_time_scalar(std::string_view text, const SourceLocation& where, Fail&& fail) {
   try {
-    return SpaceTimeScalar(Expression::parse(text, kSpaceTimeVariables));
+    return SpaceTimeScalar(Expression::parse(text, kSpaceTimeVariables), where.prefix());
   } catch (const InputError& e) {
     fail(std::string(e.what()));
   }
@@ -112,7 +112,7 @@ SpaceTimeScalar parse_space_time_scalar(std::string_view text, Fail&& fail) {
 }
 
 SpaceTimeScalar read_space_time_scalar(const YamlNode& parent, std::string_view key) {
-  return parse_space_time_scalar(parent.required<std::string>(key),
+  return parse_space_time_scalar(parent.required<std::string>(key), parent.location(key),
                                  [&](const std::string& what) { parent.fail(key, what); });
 }
 
@@ -123,7 +123,7 @@ std::array<SpaceTimeScalar, 3> read_space_time_vector(const YamlNode& parent, st
   std::array<SpaceTimeScalar, 3> v;
   for (std::size_t d = 0; d < 3; ++d) {
     if (!items[d].is_scalar()) items[d].fail("expected a number or an expression in quotes");
-    v[d] = parse_space_time_scalar(items[d].as<std::string>(),
+    v[d] = parse_space_time_scalar(items[d].as<std::string>(), items[d].location(),
                                    [&](const std::string& what) { items[d].fail(what); });
   }
   return v;
@@ -796,10 +796,21 @@ TimeFunction read_time_function(const YamlNode& node) {
     }
   }
   node.finish();
-  return f;
+  // Checked where it is evaluated: a value that is not finite names this key and the time.
+  return f.named(node.location().prefix());
 }
 
 }  // namespace detail
+
+void SpaceTimeScalar::fail_non_finite(const Vec3& X, double t, double value, bool is_derivative) const {
+  const double point[4] = {X.x(), X.y(), X.z(), t};
+  const std::string cause = expression_.explain_non_finite(point, is_derivative ? 3 : -1);
+  throw InputError(fmt::format(
+      "{}: {} {} at (x, y, z) = ({:.6g}, {:.6g}, {:.6g}) m, t = {:.6g} s{}; the expression must stay "
+      "finite over the run",
+      where_, is_derivative ? "its rate d/dt is" : "is", std::isnan(value) ? "NaN" : (value > 0 ? "inf" : "-inf"),
+      X.x(), X.y(), X.z(), t, cause.empty() ? std::string() : fmt::format(" ({}?)", cause)));
+}
 
 const MeshSpec* MeshesSection::find(std::string_view key) const {
   if (key == "fluid") return fluid ? &*fluid : nullptr;

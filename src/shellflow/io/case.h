@@ -13,6 +13,7 @@
 // `std::optional<Section>` member to Case, read it in case.cpp with a `read_<section>()` that
 // uses YamlNode and ends with `finish()`, and document it in docs/case-format.md.
 #include <array>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <limits>
@@ -178,23 +179,36 @@ enum class FluidBoundaryType {
 
 /// A scalar field written in a case file as a number or as an expression (expression.h) of
 /// the node's initial coordinates x, y, z [m] and the time t [s].
+///
+/// With a `where` (the key it was read from, `case.yaml:12: fluid.analysis.initial.density`)
+/// every evaluation checks its result: one that is not finite throws InputError naming the
+/// key, the point, the time and the likely cause, so that a NaN or an overflow in an initial
+/// state, a boundary state or a mesh motion stops the run where it enters.
 class SpaceTimeScalar {
  public:
   SpaceTimeScalar() = default;
-  explicit SpaceTimeScalar(Expression expression) : expression_(std::move(expression)) {}
+  explicit SpaceTimeScalar(Expression expression, std::string where = {})
+      : expression_(std::move(expression)), where_(std::move(where)) {}
   double operator()(const Vec3& X, double t) const {
     const double point[4] = {X.x(), X.y(), X.z(), t};
-    return expression_.value(point);
+    const double v = expression_.value(point);
+    if (!where_.empty() && !std::isfinite(v)) fail_non_finite(X, t, v, false);
+    return v;
   }
   /// Partial derivative with respect to t (exact: automatic differentiation).
   double time_derivative(const Vec3& X, double t) const {
     const double point[4] = {X.x(), X.y(), X.z(), t};
-    return expression_.evaluate(point, 3).derivative;
+    const double d = expression_.evaluate(point, 3).derivative;
+    if (!where_.empty() && !std::isfinite(d)) fail_non_finite(X, t, d, true);
+    return d;
   }
   const Expression& expression() const { return expression_; }
+  const std::string& where() const { return where_; }
 
  private:
   Expression expression_;
+  std::string where_;  ///< empty: unchecked
+  [[noreturn]] void fail_non_finite(const Vec3& X, double t, double value, bool is_derivative) const;
 };
 
 /// A gas state varying in space and time: density, velocity, pressure.

@@ -66,12 +66,12 @@ QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positio
         const double q = d ? tet_mean_ratio(a, b, c, *d) : triangle_quality(a, b, c);
         const double v = d ? tet_signed_volume(a, b, c, *d) : 0.5 * (b - a).cross(c - a).norm();
         sum += q;
-        if (q < s.min) {
+        if (q < s.min || (std::isnan(q) && !std::isnan(s.min))) {  // NaN is the worst
           s.min = q;
           s.worst_cell = e;
         }
         if (v < s.min_volume) s.min_volume = v;
-        if (d && v <= 0.0) ++s.inverted;
+        if (d && !(v > 0.0)) ++s.inverted;  // NaN counts as inverted
       });
   if (mesh.num_cells() > 0) s.mean = sum / mesh.num_cells();
   return s;

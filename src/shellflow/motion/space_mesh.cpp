@@ -188,7 +188,7 @@ SpaceMesh::SpaceMesh(const mesh::Mesh& space, SpaceMeshOptions options)
     const auto v = mesh_.cells.element(e);
     const double volume = mesh::tet_signed_volume(mesh_.nodes[static_cast<std::size_t>(v[0])], mesh_.nodes[static_cast<std::size_t>(v[1])],
                                                   mesh_.nodes[static_cast<std::size_t>(v[2])], mesh_.nodes[static_cast<std::size_t>(v[3])]);
-    if (volume <= 0.0) {
+    if (!(volume > 0.0)) {
       throw_input_error("{}: space-mesh element {} is inverted (volume {:.3g} m^3); fix the mesh",
                         mesh_.source, e, volume);
     }
@@ -416,6 +416,7 @@ std::pair<double, Index> min_jacobian(const mesh::Mesh& m, std::span<const Vec3>
     const auto X = element_nodes(m, x, e);
     for (const Vec3& xi : jacobian_check_points()) {
       const double j = map_jacobian(X, xi.data()).determinant() / reference[static_cast<std::size_t>(e)];
+      if (std::isnan(j)) return {j, e};  // NaN positions: the worst there is
       if (j < worst) {
         worst = j;
         worst_element = e;
