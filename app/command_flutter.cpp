@@ -12,6 +12,7 @@
 #include "commands.h"
 #include "output_dir.h"
 #include "shellflow/core/error.h"
+#include "shellflow/core/json.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/setup/fluid_setup.h"
@@ -19,22 +20,6 @@
 
 namespace shellflow::app {
 namespace {
-
-/// JSON number; non-finite values are null.
-std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : "null"; }
-
-std::string json_string(const std::string& s) {
-  std::string out = "\"";
-  for (const char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    if (static_cast<unsigned char>(ch) < 0x20) {
-      out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-      continue;
-    }
-    out += ch;
-  }
-  return out + "\"";
-}
 
 /// The case reduced to what the analysis reads: the shell mesh (a coupled case's fluid and
 /// space meshes are not generated).
@@ -144,26 +129,26 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
       for (std::size_t k = 0; k < p.eigenvalues.size(); ++k) {
         const auto s = p.eigenvalues[k];
         const double g = s.imag() != 0.0 ? 2.0 * s.real() / s.imag() : std::nan("");
-        csv << fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, num(p.mach), k + 1,
-                           s.real(), s.imag() / (2.0 * std::numbers::pi), num(g));
+        csv << fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, json_number(p.mach), k + 1,
+                           s.real(), s.imag() / (2.0 * std::numbers::pi), json_number(g));
       }
     if (!csv) throw Error(fmt::format("{}: cannot write flutter_locus.csv", outdir.string()));
   }
   const auto& cr = r.sweep.critical;
   std::string freqs;
-  for (const double f : system.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + num(f);
+  for (const double f : system.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + json_number(f);
   const std::string json = fmt::format(
       "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"points\": {}, \"modes\": {}, "
       "\"aerodynamic_damping\": {}, \"panel_length\": {}, \"bending_stiffness\": {}, \"mu_over_mach\": {}, "
       "\"lambda_case\": {}, \"mach_case\": {}, \"case_growth_rate\": {}, \"case_frequency_hz\": {}, "
       "\"lambda_cr\": {}, \"mach_cr\": {}, \"frequency_hz\": {}, \"critical_value\": {}, "
       "\"critical_value_half_modes\": {}, \"in_vacuo_frequencies_hz\": [{}]}}",
-      json_string(c.name), coupling::to_string(options.parameter), num(r.lo), num(r.hi), options.points, modes,
-      setting.aerodynamic_damping ? "true" : "false", num(setting.length), num(setting.bending_stiffness),
-      num(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)), num(lambda_case), num(setting.mach),
-      num(least_stable.real()), num(std::abs(least_stable.imag()) / (2.0 * std::numbers::pi)),
-      cr ? num(cr->lambda) : "null", cr ? num(cr->mach) : "null", cr ? num(cr->frequency_hz) : "null",
-      cr ? num(cr->value) : "null", r.half_modes_critical ? num(*r.half_modes_critical) : "null", freqs);
+      json_string(c.name), coupling::to_string(options.parameter), json_number(r.lo), json_number(r.hi), options.points, modes,
+      setting.aerodynamic_damping ? "true" : "false", json_number(setting.length), json_number(setting.bending_stiffness),
+      json_number(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)), json_number(lambda_case), json_number(setting.mach),
+      json_number(least_stable.real()), json_number(std::abs(least_stable.imag()) / (2.0 * std::numbers::pi)),
+      cr ? json_number(cr->lambda) : "null", cr ? json_number(cr->mach) : "null", cr ? json_number(cr->frequency_hz) : "null",
+      cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null", freqs);
   {
     std::ofstream out(outdir / "flutter.json");
     out << json << '\n';

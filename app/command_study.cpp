@@ -24,6 +24,7 @@
 #include "commands.h"
 #include "output_dir.h"
 #include "shellflow/core/error.h"
+#include "shellflow/core/json.h"
 
 extern "C" char** environ;
 
@@ -52,7 +53,7 @@ std::string slurp(const fs::path& file) {
 
 /// The number after `"key":` in `json` at or after `from` (our own files: flat, no escapes
 /// in the keys); NaN when absent or null.
-double json_number(const std::string& json, std::string_view key, std::size_t from = 0) {
+double read_json_number(const std::string& json, std::string_view key, std::size_t from = 0) {
   const std::string needle = fmt::format("\"{}\":", key);
   const auto at = json.find(needle, from);
   if (at == std::string::npos) return std::nan("");
@@ -71,17 +72,15 @@ bool json_true(const std::string& json, std::string_view key) {
   return v != std::string::npos && json.compare(v, 4, "true") == 0;
 }
 
-std::string json_escape(const std::string& s) {
-  std::string out;
+/// A CSV field in double quotes (quotes doubled, line breaks dropped).
+std::string csv_quoted(const std::string& s) {
+  std::string out = "\"";
   for (const char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
-    if (static_cast<unsigned char>(ch) < 0x20) continue;
-    out += ch;
+    if (ch == '\n' || ch == '\r') continue;
+    out += ch == '"' ? "\"\"" : std::string(1, ch);
   }
-  return out;
+  return out + "\"";
 }
-
-std::string num(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : "null"; }
 
 /// Reads a finished point's folder: point.json (status) and response.json (rates).
 std::optional<Point> read_point(const fs::path& dir, double value) {
@@ -91,19 +90,22 @@ std::optional<Point> read_point(const fs::path& dir, double value) {
   p.value = value;
   p.dir = dir;
   p.ok = json_true(status, "ok");
-  if (const auto m = status.find("\"message\": \""); m != std::string::npos) {
-    const auto start = m + 12;
-    p.message = status.substr(start, status.find("\"}", start) - start);
+  if (auto m = status.find("\"message\": \""); m != std::string::npos) {
+    // Written by json_string: undo the \" and \\ escapes (messages hold no control characters).
+    for (m += 12; m < status.size() && status[m] != '"'; ++m) {
+      if (status[m] == '\\' && m + 1 < status.size()) ++m;
+      p.message += status[m];
+    }
   }
   if (!p.ok) return p;
   const std::string r = slurp(dir / "response.json");
-  p.growth_rate = json_number(r, "growth_rate");
-  p.growth_rate_error = json_number(r, "growth_rate_error");
-  p.frequency_hz = json_number(r, "frequency_hz");
+  p.growth_rate = read_json_number(r, "growth_rate");
+  p.growth_rate_error = read_json_number(r, "growth_rate_error");
+  p.frequency_hz = read_json_number(r, "frequency_hz");
   p.saturated = json_true(r, "saturated");
   if (const auto lco = r.find("\"lco\": {"); lco != std::string::npos) {
-    p.lco_amplitude = json_number(r, "amplitude", lco);
-    p.lco_frequency_hz = json_number(r, "frequency_hz", lco);
+    p.lco_amplitude = read_json_number(r, "amplitude", lco);
+    p.lco_frequency_hz = read_json_number(r, "frequency_hz", lco);
   }
   if (!std::isfinite(p.growth_rate)) {
     p.ok = false;
@@ -155,6 +157,11 @@ class PointRunner {
     std::vector<Point> out;
     std::vector<double> todo;
     for (const double v : values) {
+      // A point of an earlier study with other settings (the case file, --set, study.set) is rerun.
+      if (fs::exists(dir_of(v) / "point.json") && slurp(dir_of(v) / "settings.txt") != settings(v)) {
+        spdlog::info("study: {} = {:.8g} was run with other settings; rerun", io::to_string(c_.study->parameter), v);
+        fs::remove(dir_of(v) / "point.json");
+      }
       if (auto p = read_point(dir_of(v), v)) {
         spdlog::info("study: {} = {:.8g} already done ({}), not rerun", io::to_string(c_.study->parameter), v,
                      p->ok ? "ok" : "failed");
@@ -186,9 +193,17 @@ class PointRunner {
   }
 
  private:
+  /// What makes a point's run: the case file's text and the run's overrides.
+  std::string settings(double value) const {
+    std::string text = slurp(common_.case_file);
+    for (const auto& o : run_overrides(c_, common_, value)) text += "\n--set " + o;
+    return text;
+  }
+
   pid_t spawn(double value) {
     const fs::path dir = dir_of(value);
     fs::create_directories(dir);
+    std::ofstream(dir / "settings.txt", std::ios::binary) << settings(value);
     std::vector<std::string> words{exe_, "run", common_.case_file.string(), "-o", dir.string(), "--no-plot"};
     for (const auto& o : run_overrides(c_, common_, value)) words.insert(words.end(), {"--set", o});
     std::vector<char*> argv;
@@ -227,8 +242,8 @@ class PointRunner {
         message = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
                                       : fmt::format("exit status {}", WEXITSTATUS(status));
     }
-    std::ofstream(dir / "point.json") << fmt::format("{{\"value\": {}, \"ok\": {}, \"message\": \"{}\"}}\n",
-                                                     num(value), ok ? "true" : "false", json_escape(message));
+    std::ofstream(dir / "point.json") << fmt::format("{{\"value\": {}, \"ok\": {}, \"message\": {}}}\n",
+                                                     json_number(value), ok ? "true" : "false", json_string(message));
     Point p = read_point(dir, value).value();
     if (p.ok)
       spdlog::info("study: {} = {:.8g}: growth rate {:.5g} +- {:.2g} 1/s, {:.5g} Hz{}",
@@ -337,24 +352,24 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
     csv << name << ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
                    "folder,message\n";
     for (const auto& p : points)
-      csv << fmt::format("{:.10g},{},{},{},{},{},{},{},{},\"{}\"\n", p.value, p.ok ? "ok" : "failed",
-                         num(p.growth_rate), num(p.growth_rate_error), num(p.frequency_hz), p.saturated ? 1 : 0,
-                         num(p.lco_amplitude), num(p.lco_frequency_hz),
-                         fs::relative(p.dir, outdir).string(), json_escape(p.message));
+      csv << fmt::format("{:.10g},{},{},{},{},{},{},{},{},{}\n", p.value, p.ok ? "ok" : "failed",
+                         json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz), p.saturated ? 1 : 0,
+                         json_number(p.lco_amplitude), json_number(p.lco_frequency_hz),
+                         fs::relative(p.dir, outdir).string(), csv_quoted(p.message));
   }
   std::string rows;
   for (const auto& p : points)
     rows += fmt::format("{}{{\"value\": {}, \"ok\": {}, \"growth_rate\": {}, \"growth_rate_error\": {}, "
                         "\"frequency_hz\": {}, \"saturated\": {}, \"lco_amplitude\": {}, \"lco_frequency_hz\": {}, "
-                        "\"message\": \"{}\"}}",
-                        rows.empty() ? "" : ", ", num(p.value), p.ok ? "true" : "false", num(p.growth_rate),
-                        num(p.growth_rate_error), num(p.frequency_hz), p.saturated ? "true" : "false",
-                        num(p.lco_amplitude), num(p.lco_frequency_hz), json_escape(p.message));
+                        "\"message\": {}}}",
+                        rows.empty() ? "" : ", ", json_number(p.value), p.ok ? "true" : "false", json_number(p.growth_rate),
+                        json_number(p.growth_rate_error), json_number(p.frequency_hz), p.saturated ? "true" : "false",
+                        json_number(p.lco_amplitude), json_number(p.lco_frequency_hz), json_string(p.message));
   const std::string json = fmt::format(
-      "{{\"case\": \"{}\", \"parameter\": \"{}\", \"range\": [{}, {}], \"tolerance\": {}, \"boundary\": {}, "
+      "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"tolerance\": {}, \"boundary\": {}, "
       "\"bracket\": {}, \"refinements\": {}, \"points\": [{}]}}",
-      json_escape(c.name), name, num(s.lo), num(s.hi), num(s.tolerance), boundary ? num(*boundary) : "null",
-      br ? fmt::format("[{}, {}]", num(br->first.value), num(br->second.value)) : "null", rounds, rows);
+      json_string(c.name), name, json_number(s.lo), json_number(s.hi), json_number(s.tolerance), boundary ? json_number(*boundary) : "null",
+      br ? fmt::format("[{}, {}]", json_number(br->first.value), json_number(br->second.value)) : "null", rounds, rows);
   std::ofstream(outdir / "study.json") << json << '\n';
 
   if (boundary) {

@@ -1,5 +1,7 @@
 #include "shellflow/coupling/response.h"
 
+#include "shellflow/core/json.h"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -236,28 +238,10 @@ ResponseAnalysis analyse_response(std::span<const double> t, std::span<const dou
 
 namespace {
 
-/// A JSON number; null when not finite (JSON has no NaN or infinity).
-std::string json_number(double x) { return std::isfinite(x) ? fmt::format("{:.10g}", x) : "null"; }
-
 std::string json_array(const std::vector<double>& x) {
   std::string s = "[";
   for (std::size_t i = 0; i < x.size(); ++i) s += (i ? ", " : "") + json_number(x[i]);
   return s + "]";
-}
-
-std::string json_string(std::string_view text) {
-  std::string s = "\"";
-  for (const char ch : text) {
-    if (ch == '"' || ch == '\\') {
-      s += '\\';
-      s += ch;
-    } else if (static_cast<unsigned char>(ch) < 0x20) {
-      s += fmt::format("\\u{:04x}", static_cast<int>(ch));
-    } else {
-      s += ch;
-    }
-  }
-  return s + '"';
 }
 
 }  // namespace
