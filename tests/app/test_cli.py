@@ -847,6 +847,15 @@ class InputHardening(unittest.TestCase):
         with open(os.path.join(out, "shell.msh")) as f:
             return f.read().splitlines()
 
+    def test_a_dynamic_shell_without_density_is_refused_by_check(self):
+        # It used to pass check and fail the run as "the mass matrix is singular", without the key.
+        case = os.path.join(ROOT, "cases", "shell", "strip_free_vibration.yaml")
+        r = shellflow("check", case, "--set", "shell.material.density=0")
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertIn("shell.analysis.type: a dynamic analysis needs the shell's mass; set "
+                      "shell.material.density > 0", r.stderr)
+
     def test_geo_system_command_runs_nothing(self):
         with open(self.STRIP_GEO) as f:
             geo = f.read()

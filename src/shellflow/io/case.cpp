@@ -329,6 +329,9 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
         analysis.final_load_factor = a->optional<double>("final_load_factor", 1.0, Range::positive());
       }
     } else if (analysis.type == ShellAnalysisType::dynamic) {
+      if (!(shell.material.density > 0.0)) {
+        a->fail("type", "a dynamic analysis needs the shell's mass; set shell.material.density > 0");
+      }
       if (auto f = a->optional_child("load_function")) analysis.load_function = read_time_function(*f);
       analysis.mass_damping = a->optional<double>("mass_damping", 0.0, Range::non_negative(), "1/s");
       analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint"
