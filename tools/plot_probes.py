@@ -21,6 +21,8 @@ def main():
     parser.add_argument("-o", "--output")
     parser.add_argument("--probes", nargs="*", help="plot only these columns")
     parser.add_argument("--x", default="time", help="abscissa column (default: time)")
+    parser.add_argument("--x-label", help="axis label of the abscissa (default: 'time [s]' or the column name); "
+                                          "a static run's 'time' column is its load factor")
     args = parser.parse_args()
     output = args.output or os.path.splitext(args.csv)[0] + ".png"
 
@@ -48,7 +50,7 @@ def main():
         ax.grid(True, alpha=0.3)
     if not names:
         axes[0, 0].text(0.5, 0.5, "no probes declared", ha="center", transform=axes[0, 0].transAxes)
-    axes[-1, 0].set_xlabel("time [s]" if args.x == "time" else args.x)
+    axes[-1, 0].set_xlabel(args.x_label or ("time [s]" if args.x == "time" else args.x))
     fig.tight_layout()
     fig.savefig(output, dpi=120)
     print(f"plot_probes: wrote {output}")

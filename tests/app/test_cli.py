@@ -912,6 +912,9 @@ class InputHardening(unittest.TestCase):
             "nodes.msh": (replaced(good.index("$EndNodes"), "$EndNode"), "damaged $Nodes section"),
             "cut.msh": ("\n".join(good[: len(good) // 2]) + "\n", "damaged $Nodes section"),
             "binary.msh": (replaced(1, "4.1 1 8"), "binary .msh files are not supported"),
+            # Control bytes (here a terminal escape) are shown as \xNN, not sent to the terminal.
+            "rawbytes.msh": (replaced(end_names, "$EndPhysicalNames\x01\x1b[31m"),
+                             "got '$EndPhysicalNames\\x01\\x1b[31m'"),
             "empty.msh": ("", "empty.msh: empty file; "),
         }
         for name, (text, expected) in damaged.items():
@@ -920,6 +923,7 @@ class InputHardening(unittest.TestCase):
             r = self.run_in_dir("check", case)
             self.assertGreaterEqual(r.returncode, 0, f"{name}: killed by signal {-r.returncode}")
             message = self.assert_one_line(r, name, expected)
+            self.assertFalse(any(ord(ch) < 0x20 for ch in message), repr(message))
             if name != "empty.msh":
                 self.assertIn("re-export the mesh from Gmsh", message)
             r = self.run_in_dir("mesh", case, "-o", os.path.join(self.dir, "out"), "--no-plot")

@@ -25,6 +25,17 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// Up to 40 bytes of a line for a message, bytes outside printable ASCII as \xNN (a binary
+/// or damaged file must not put raw bytes on the terminal).
+std::string excerpt(std::string_view s) {
+  std::string out;
+  for (const char ch : s.substr(0, 40)) {
+    const auto b = static_cast<unsigned char>(ch);
+    out += b >= 0x20 && b < 0x7f ? std::string(1, ch) : fmt::format("\\x{:02x}", b);
+  }
+  return out;
+}
+
 std::string lower(std::string s) {
   for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return s;
@@ -355,7 +366,7 @@ class SectionReader {
     T value{};
     const auto [ptr, ec] = std::from_chars(token.data(), token.data() + token.size(), value);
     if (ec != std::errc() || ptr != token.data() + token.size()) {
-      fail(fmt::format("expected {} (an integer), got '{}'", what, token.substr(0, 40)));
+      fail(fmt::format("expected {} (an integer), got '{}'", what, excerpt(token)));
     }
     if (value < lo || value > hi) {
       fail(fmt::format("{} must be in [{}, {}], got {}", what, lo, hi, value));
@@ -378,7 +389,7 @@ class SectionReader {
     if (s.size() > 1 && s.front() == '+') s.remove_prefix(1);
     const auto [ptr, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
     if (ec != std::errc() || ptr != s.data() + s.size() || !std::isfinite(value)) {
-      fail(fmt::format("expected {} (a finite number), got '{}'", what, token->substr(0, 40)));
+      fail(fmt::format("expected {} (a finite number), got '{}'", what, excerpt(*token)));
     }
     return value;
   }
@@ -386,7 +397,7 @@ class SectionReader {
   void expect_end() {
     if (const auto token = next()) {
       fail(fmt::format("unexpected '{}' after the last entry (the counts do not match the data)",
-                       token->substr(0, 40)));
+                       excerpt(*token)));
     }
   }
 
@@ -443,7 +454,7 @@ void read_physical_names(SectionReader& r) {
     if (name.size() < 2 || name.front() != '"' || name.back() != '"' ||
         name.substr(1, name.size() - 2).find('"') != std::string_view::npos) {
       r.fail(fmt::format("expected a quoted name after '{} {}', got '{}'", dim, tag,
-                         name.substr(0, 40)));
+                         excerpt(name)));
     }
     if (name.size() - 2 > 255) r.fail("a name is longer than 255 characters");
     if (!seen.emplace(dim, tag).second) {
@@ -635,7 +646,7 @@ void check_msh_file(const fs::path& file) {
     if (!(header >> version >> file_type >> data_size) || (header >> extra)) {
       throw_input_error("{}: damaged $MeshFormat section (line 2): expected 'VERSION "
                         "FILE-TYPE DATA-SIZE', got '{}'; {}",
-                        file.string(), lines[1].text, kMshFix);
+                        file.string(), excerpt(lines[1].text), kMshFix);
     }
     if (file_type == 1) {
       throw_input_error("{}: binary .msh files are not supported (they cannot be checked "
@@ -671,7 +682,7 @@ void check_msh_file(const fs::path& file) {
     if (head.text.front() != '$' || head.text.starts_with("$End")) {
       throw_input_error("{}: unexpected '{}' at line {} outside of a section (each section is "
                         "$Name ... $EndName); {}",
-                        file.string(), head.text.substr(0, 40), head.number, kMshFix);
+                        file.string(), excerpt(head.text), head.number, kMshFix);
     }
     const std::string name(head.text.substr(1));
     const std::string end_marker = "$End" + name;
@@ -684,7 +695,7 @@ void check_msh_file(const fs::path& file) {
     if (lines[end].text != end_marker) {
       throw_input_error("{}: damaged ${} section (line {}): expected {}, got '{}'; {}",
                         file.string(), name, lines[end].number, end_marker,
-                        lines[end].text.substr(0, 40), kMshFix);
+                        excerpt(lines[end].text), kMshFix);
     }
     static const std::set<std::string> checked = {"PhysicalNames", "Entities", "Nodes",
                                                   "Elements"};
