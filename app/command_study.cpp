@@ -193,10 +193,12 @@ class PointRunner {
   }
 
  private:
-  /// What makes a point's run: the case file's text and the run's overrides.
+  /// What makes a point's run: the case file's text and the run's overrides (not those of
+  /// `study.*`, which `run` ignores: a study refined with another tolerance reuses its points).
   std::string settings(double value) const {
     std::string text = slurp(common_.case_file);
-    for (const auto& o : run_overrides(c_, common_, value)) text += "\n--set " + o;
+    for (const auto& o : run_overrides(c_, common_, value))
+      if (!o.starts_with("study.")) text += "\n--set " + o;
     return text;
   }
 

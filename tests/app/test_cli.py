@@ -1138,10 +1138,13 @@ class FlutterAnalysis(unittest.TestCase):
             rows = list(csv.DictReader(f))
         self.assertEqual(len(rows), len(d["points"]))
         self.assertTrue(all(row["status"] == "ok" for row in rows))
-        # Resumed: nothing is rerun, the answer is the same.
-        d2, r2 = self.study(out, *sets)
+        # Resumed: nothing is rerun, the answer is the same (study.* keys do not change a run).
+        d2, r2 = self.study(out, *sets, "study.max_refinements=12")
         self.assertNotIn("study: run ", r2.stderr)
         self.assertEqual(d2["boundary"], d["boundary"])
+        # A key that changes the runs reruns them.
+        _, r3 = self.study(out, *sets, "time.end=0.2")
+        self.assertIn("was run with other settings; rerun", r3.stderr)
 
     def test_study_marks_failed_runs_and_reports_a_missing_bracket(self):
         # A 1 micrometre panel under the start-up pulse: Newton gives up in the run (a failed point,
