@@ -15,7 +15,7 @@
 #include "shellflow/core/json.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
-#include "shellflow/setup/fluid_setup.h"
+#include "shellflow/setup/coupled_setup.h"
 #include "shellflow/setup/shell_setup.h"
 
 namespace shellflow::app {
@@ -54,26 +54,13 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
 
-  const fluid::Primitive inf = setup::free_stream(*c.fluid);
-  coupling::PistonTheoryFlow flow;
-  flow.density = inf.rho;
-  flow.speed = inf.velocity.norm();
-  flow.mach = c.fluid->free_stream.mach;
-  flow.direction = c.fluid->free_stream.direction;
   // The wetted face does not enter the linear matrices (sign^2 = 1).
-  flow.wet_normal = c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal : model.directors()[0];
-  const coupling::PistonTheory theory(model, flow);
-
-  coupling::FlutterSetting setting;
-  setting.length = coupling::panel_length(model, flow.direction);
-  const auto& mat = c.shell->material;
-  setting.bending_stiffness = mat.young_modulus * std::pow(c.shell->thickness, 3) /
-                              (12.0 * (1.0 - mat.poisson_ratio * mat.poisson_ratio));
-  setting.density = c.fluid->free_stream.density;
-  setting.pressure = c.fluid->free_stream.pressure;
-  setting.gamma = c.fluid->gas.gamma;
-  setting.mach = flow.mach;
+  const coupling::PistonTheory theory(
+      model, setup::piston_flow(c, c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal
+                                                                                    : model.directors()[0]));
+  coupling::FlutterSetting setting = setup::flutter_setting(c, model);
   setting.aerodynamic_damping = !options.no_aerodynamic_damping;
+  const auto& mat = c.shell->material;
   if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
     throw Error("--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
                 "pressure has the damping of its speed)");
@@ -84,12 +71,12 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
                setting.mass_ratio_over_mach(mat.density, c.shell->thickness),
                modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
                options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
-  const coupling::LinearFlutterSystem system(model, theory, modes);
+  const coupling::LinearFlutterSystem linear(model, theory, modes);
   if (!options.direct)
-    spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", system.in_vacuo_frequencies().front(),
-                 system.in_vacuo_frequencies().back());
+    spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", linear.in_vacuo_frequencies().front(),
+                 linear.in_vacuo_frequencies().back());
   else
-    spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", system.size());
+    spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", linear.size());
 
   Result r;
   // The full system's highest roots are the mesh's thickness-stretch modes (MHz), which piston
@@ -104,7 +91,7 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   if (!by_lambda && !(r.lo > 1.0))
     throw Error(fmt::format("--range {} {}: a Mach sweep must stay above Mach 1 (piston theory)", r.lo, r.hi));
   for (int widen = 0;; ++widen) {
-    r.sweep = coupling::sweep_flutter(system, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked);
+    r.sweep = coupling::sweep_flutter(linear, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked);
     if (r.sweep.critical || options.range || widen == 3) break;
     spdlog::info("no flutter boundary up to {} = {:.6g}; widening the range", coupling::to_string(options.parameter),
                  r.hi);
@@ -112,11 +99,11 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   }
   if (!options.direct && modes >= 4 && r.sweep.critical) {
     // Truncation check: the same sweep on the first half of the modes.
-    const auto half = system.truncated(modes / 2);
+    const auto half = linear.truncated(modes / 2);
     const auto s = coupling::sweep_flutter(half, setting, options.parameter, r.lo, r.hi, options.points);
     if (s.critical) r.half_modes_critical = s.critical->value;
   }
-  auto case_roots = system.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
+  auto case_roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
   if (tracked > 0 && case_roots.size() > std::size_t(tracked)) case_roots.resize(std::size_t(tracked));
   const auto least_stable = *std::max_element(case_roots.begin(), case_roots.end(),
                                               [](const auto& a, const auto& b) { return a.real() < b.real(); });
@@ -136,7 +123,7 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   }
   const auto& cr = r.sweep.critical;
   std::string freqs;
-  for (const double f : system.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + json_number(f);
+  for (const double f : linear.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + json_number(f);
   const std::string json = fmt::format(
       "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"points\": {}, \"modes\": {}, "
       "\"aerodynamic_damping\": {}, \"panel_length\": {}, \"bending_stiffness\": {}, \"mu_over_mach\": {}, "

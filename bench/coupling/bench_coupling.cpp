@@ -12,8 +12,6 @@
 // Median of repetitions: --benchmark_repetitions=5 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
 
-#include <cmath>
-
 #include "shellflow/core/version.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
@@ -92,17 +90,6 @@ BENCHMARK(BM_CoupledShellStepEuler)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
-coupling::FlutterSetting strip_setting(const System& sys) {
-  coupling::FlutterSetting st;
-  st.length = coupling::panel_length(*sys.s.shell, Vec3::UnitX());
-  const auto& m = sys.c.shell->material;
-  st.bending_stiffness = m.young_modulus * std::pow(sys.c.shell->thickness, 3) / (12 * (1 - m.poisson_ratio * m.poisson_ratio));
-  st.density = sys.c.fluid->free_stream.density;
-  st.pressure = sys.c.fluid->free_stream.pressure;
-  st.mach = sys.c.fluid->free_stream.mach;
-  return st;
-}
-
 void BM_FlutterBasis(benchmark::State& state) {
   System sys("clamped_clamped_piston.yaml");
   for (auto _ : state) {
@@ -115,7 +102,7 @@ BENCHMARK(BM_FlutterBasis)->Unit(benchmark::kMillisecond);
 void BM_FlutterSweep50(benchmark::State& state) {
   System sys("clamped_clamped_piston.yaml");
   const coupling::LinearFlutterSystem f(*sys.s.shell, sys.s.piston->theory(), 24);
-  const auto st = strip_setting(sys);
+  const auto st = setup::flutter_setting(sys.c, *sys.s.shell);
   int bisections = 0;
   for (auto _ : state) {
     const auto r = coupling::sweep_flutter(f, st, coupling::FlutterParameter::lambda, 0.0, 1000.0, 50);

@@ -84,25 +84,22 @@ def main():
     ]
     print("| run | growth rate [1/s] | frequency [Hz] | wall time [s] |")
     print("|---|---|---|---|")
-    for name, source, edits, end in sliding:
-        if args.only and name not in args.only:
-            continue
-        r = run(args.exe, args.out, name, source, edits, end)
-        if r is None:
-            continue
-        t, w, wall = r
+    def runs(variants):
+        """(name, t, w, wall) of every variant selected by --only that ran."""
+        for name, source, edits, end in variants:
+            if args.only and name not in args.only:
+                continue
+            r = run(args.exe, args.out, name, source, edits, end)
+            if r is not None:
+                yield (name, *r)
+
+    for name, t, w, wall in runs(sliding):
         sigma, f = growth(extrema(t, w, 0.02, t[-1]))
         print(f"| {name} | {sigma:.2f} | {f:.2f} | {wall:.0f} |", flush=True)
     print()
     print("| run | limit-cycle amplitude at x = 0.6 m [mm] (last 5 cycles, spread) | frequency [Hz] | wall time [s] |")
     print("|---|---|---|---|")
-    for name, source, edits, end in clamped:
-        if args.only and name not in args.only:
-            continue
-        r = run(args.exe, args.out, name, source, edits, end)
-        if r is None:
-            continue
-        t, w, wall = r
+    for name, t, w, wall in runs(clamped):
         peaks = extrema(t, w, 0.02, t[-1])
         last = [abs(p[1]) for p in peaks[-10:]]
         amp = sum(last) / max(1, len(last))

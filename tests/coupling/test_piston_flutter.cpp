@@ -56,8 +56,8 @@ Flutter eigen_analysis(const io::Case& c, int modes) {
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
   const PistonTheory& theory = s.piston->theory();
-  const LinearFlutterSystem system(*s.shell, theory, modes);
-  const auto roots = system.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
+  const LinearFlutterSystem linear(*s.shell, theory, modes);
+  const auto roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
   const auto best = *std::max_element(roots.begin(), roots.end(),
                                       [](const auto& a, const auto& b) { return a.real() < b.real(); });
   return {best.real(), std::abs(best.imag()) / (2 * M_PI)};

@@ -512,15 +512,28 @@ void check_entity(SectionReader& r, const MshModel& model, int dim, int tag) {
   }
 }
 
-void read_nodes(SectionReader& r, MshModel& model) {
-  const auto blocks = r.integer<long long>("the number of node blocks", 0, kMaxCount);
-  const auto total = r.integer<long long>("the number of nodes", 0, kMaxCount);
-  const auto min_tag = r.integer<std::size_t>("the smallest node tag", 0, kMaxTag);
-  const auto max_tag = r.integer<std::size_t>("the largest node tag", 0, kMaxTag);
-  if (total > 0 && (min_tag < 1 || max_tag < min_tag ||
-                    max_tag - min_tag + 1 < static_cast<std::size_t>(total))) {
-    r.fail(fmt::format("{} nodes cannot have tags {} to {}", total, min_tag, max_tag));
+/// The first line of $Nodes and $Elements: block count, entry count and the tag range, which
+/// must be able to hold that many distinct tags.
+struct BlockHeader {
+  long long blocks = 0, total = 0;
+  std::size_t min_tag = 0, max_tag = 0;
+};
+
+BlockHeader read_block_header(SectionReader& r, std::string_view entry) {
+  BlockHeader h;
+  h.blocks = r.integer<long long>(fmt::format("the number of {} blocks", entry), 0, kMaxCount);
+  h.total = r.integer<long long>(fmt::format("the number of {}s", entry), 0, kMaxCount);
+  h.min_tag = r.integer<std::size_t>(fmt::format("the smallest {} tag", entry), 0, kMaxTag);
+  h.max_tag = r.integer<std::size_t>(fmt::format("the largest {} tag", entry), 0, kMaxTag);
+  if (h.total > 0 && (h.min_tag < 1 || h.max_tag < h.min_tag ||
+                      h.max_tag - h.min_tag + 1 < static_cast<std::size_t>(h.total))) {
+    r.fail(fmt::format("{} {}s cannot have tags {} to {}", h.total, entry, h.min_tag, h.max_tag));
   }
+  return h;
+}
+
+void read_nodes(SectionReader& r, MshModel& model) {
+  const auto [blocks, total, min_tag, max_tag] = read_block_header(r, "node");
   long long seen = 0;
   for (long long b = 0; b < blocks; ++b) {
     const int dim = r.integer<int>("an entity dimension", 0, 3);
@@ -546,14 +559,7 @@ void read_nodes(SectionReader& r, MshModel& model) {
 
 void read_elements(SectionReader& r, const MshModel& model) {
   if (!model.has_nodes) r.fail("$Elements comes before $Nodes");
-  const auto blocks = r.integer<long long>("the number of element blocks", 0, kMaxCount);
-  const auto total = r.integer<long long>("the number of elements", 0, kMaxCount);
-  const auto min_tag = r.integer<std::size_t>("the smallest element tag", 0, kMaxTag);
-  const auto max_tag = r.integer<std::size_t>("the largest element tag", 0, kMaxTag);
-  if (total > 0 && (min_tag < 1 || max_tag < min_tag ||
-                    max_tag - min_tag + 1 < static_cast<std::size_t>(total))) {
-    r.fail(fmt::format("{} elements cannot have tags {} to {}", total, min_tag, max_tag));
-  }
+  const auto [blocks, total, min_tag, max_tag] = read_block_header(r, "element");
   std::unordered_set<std::size_t> tags;
   long long seen = 0;
   for (long long b = 0; b < blocks; ++b) {

@@ -39,15 +39,8 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
   if (c.fluid) s.reference_pressure = c.fluid->free_stream.pressure;
 
   if (piston) {
-    const fluid::Primitive inf = free_stream(*c.fluid);
-    coupling::PistonTheoryFlow flow;
-    flow.density = inf.rho;
-    flow.speed = inf.velocity.norm();
-    flow.mach = c.fluid->free_stream.mach;
-    flow.direction = c.fluid->free_stream.direction;
-    flow.wet_normal = k.wet_normal;
     try {
-      auto loads = std::make_unique<coupling::PistonLoads>(model, flow);
+      auto loads = std::make_unique<coupling::PistonLoads>(model, piston_flow(c, k.wet_normal));
       s.piston = loads.get();
       s.aerodynamics = std::move(loads);
     } catch (const InputError& e) {
@@ -135,6 +128,29 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
   options.predictor = k.predictor == io::CouplingSection::Predictor::linear ? coupling::LoadPredictor::linear
                                                                            : coupling::LoadPredictor::none;
   s.driver = std::make_unique<coupling::PartitionedSolver>(model, *s.solver, *s.aerodynamics, *s.motion, options);
+  return s;
+}
+
+coupling::PistonTheoryFlow piston_flow(const io::Case& c, const Vec3& wet_normal) {
+  const fluid::Primitive inf = free_stream(*c.fluid);
+  coupling::PistonTheoryFlow flow;
+  flow.density = inf.rho;
+  flow.speed = inf.velocity.norm();
+  flow.mach = c.fluid->free_stream.mach;
+  flow.direction = c.fluid->free_stream.direction;
+  flow.wet_normal = wet_normal;
+  return flow;
+}
+
+coupling::FlutterSetting flutter_setting(const io::Case& c, const shell::ShellModel& model) {
+  coupling::FlutterSetting s;
+  s.length = coupling::panel_length(model, c.fluid->free_stream.direction);
+  const auto& m = c.shell->material;
+  s.bending_stiffness = m.young_modulus * std::pow(c.shell->thickness, 3) / (12.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
+  s.density = c.fluid->free_stream.density;
+  s.pressure = c.fluid->free_stream.pressure;
+  s.gamma = c.fluid->gas.gamma;
+  s.mach = c.fluid->free_stream.mach;
   return s;
 }
 

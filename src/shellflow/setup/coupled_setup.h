@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "shellflow/coupling/flow.h"
+#include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/coupling/partitioned_solver.h"
 #include "shellflow/coupling/piston_theory.h"
 #include "shellflow/io/case.h"
@@ -33,5 +34,12 @@ struct CoupledSystem {
 /// Builds everything and sets the initial state (shell at rest, flow at the free stream).
 /// Throws InputError (maps, gaps, orientation, groups) with the case file's context.
 CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes);
+
+/// The piston-theory stream of a case's fluid.free_stream, wetting the face `wet_normal`
+/// points out of.
+coupling::PistonTheoryFlow piston_flow(const io::Case& c, const Vec3& wet_normal);
+/// What a linear flutter sweep needs of a case: the panel length along the flow (the extent
+/// of the shell's nodes), D = E h^3 / (12 (1 - nu^2)) and the free stream.
+coupling::FlutterSetting flutter_setting(const io::Case& c, const shell::ShellModel& model);
 
 }  // namespace shellflow::setup
