@@ -7,7 +7,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "commands.h"
 #include "fluid_fields.h"
@@ -16,6 +18,8 @@
 #include "shell_run.h"
 #include "fluid_run.h"
 #include "output_dir.h"
+#include "run_control.h"
+#include "run_context.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
 #include "shellflow/io/probes.h"
@@ -75,42 +79,68 @@ InitialState initial_state(const io::Case& c, const io::CaseMeshes& meshes) {
 
 }  // namespace
 
-int run_command(const CommonOptions& options) {
+int run_command(const CommonOptions& options, const StopOptions& stop) {
   const io::Case c = read_case(options);
-  const auto outdir = prepare_output_dir(c, options);
+  // A restart continues in the checkpoint's folder; every refusal comes before anything is
+  // written there.
+  std::optional<io::Checkpoint> checkpoint;
+  std::filesystem::path outdir;
+  if (stop.restart) {
+    checkpoint = load_restart(*stop.restart, c);
+    outdir = checkpoint->file.parent_path();
+    if (outdir.empty()) outdir = ".";
+    if (options.output_dir && std::filesystem::weakly_canonical(*options.output_dir) !=
+                                  std::filesystem::weakly_canonical(outdir))
+      throw Error(fmt::format("--restart {} continues the run in {}; drop -o {} (a restart writes into the folder "
+                              "of its checkpoint)",
+                              stop.restart->string(), outdir.string(), options.output_dir->string()));
+  } else {
+    outdir = prepare_output_dir(c, options);
+  }
   spdlog::info("case '{}' -> {}", c.name, outdir.string());
-  const io::CaseMeshes meshes = io::load_case_meshes(c, outdir);
+  // A restart does not save the meshes again: the folder keeps the run's own.
+  const io::CaseMeshes meshes =
+      io::load_case_meshes(c, checkpoint ? std::nullopt : std::optional<std::filesystem::path>(outdir));
+  std::vector<io::SectionDigest> digests = c.digests;
+  for (const mesh::Mesh* m : meshes.all()) digests.push_back(io::mesh_digest(*m));
+  RunControl control(c, outdir, stop, std::move(checkpoint), std::move(digests));
   // Only once the case is read and meshed (a case with an error keeps the old results), and
   // only here, not for `study` (its folder holds points/ and study.csv of a study to resume).
-  remove_previous_run_output(outdir);
+  if (!control.restarting()) remove_previous_run_output(outdir);
   const InitialState state = initial_state(c, meshes);
-  io::ProbeSet probes(c.probes, meshes, outdir / "probes.csv");
+  io::ProbeSet probes(c.probes, meshes, outdir / "probes.csv", control.output_mode());
 
   const double time = 0.0;
-  for (const mesh::Mesh* m : meshes.all()) {
-    std::vector<io::VtuField> fields;
-    for (const auto& v : state.views)
-      if (v.mesh == m->name) fields.push_back({std::string(v.quantity), v.components, v.values});
-    const std::string vtu = fmt::format("{}_{:06}.vtu", m->name, 0);
-    io::write_mesh_vtu(outdir / vtu, *m, std::move(fields), time);
-    io::PvdWriter(outdir, m->name).add(time, vtu);
+  if (!control.restarting()) {
+    for (const mesh::Mesh* m : meshes.all()) {
+      std::vector<io::VtuField> fields;
+      for (const auto& v : state.views)
+        if (v.mesh == m->name) fields.push_back({std::string(v.quantity), v.components, v.values});
+      const std::string vtu = fmt::format("{}_{:06}.vtu", m->name, 0);
+      io::write_mesh_vtu(outdir / vtu, *m, std::move(fields), time);
+      io::PvdWriter(outdir, m->name).add(time, vtu);
+    }
   }
+  const auto t_start = std::chrono::steady_clock::now();
+  const RunContext run{c, meshes, probes, state.views, outdir, options.plot, control};
   if (c.coupling) {
     // Shell and flow (or piston theory, or only the fluid mesh) together.
-    run_coupled(c, meshes, probes, state.views, outdir, options.plot);
+    run_coupled(run);
   } else if (c.motion) {
     // Prescribed boundary motion, no flow: the mesh-motion tests of the paper.
-    run_mesh_motion(c, meshes, probes, state.views, outdir, options.plot);
+    run_mesh_motion(run);
   } else if (c.shell && c.shell->analysis) {
-    run_shell(c, meshes, probes, state.views, outdir);
+    run_shell(run);
   } else if (c.fluid && c.fluid->analysis) {
-    run_fluid(c, meshes, probes, state.views, outdir);
+    run_fluid(run);
   } else {
+    control.not_time_stepping("a case without an analysis");
     probes.record(time, state.views);
     spdlog::warn("nothing to integrate: the case has no 'motion', 'shell.analysis' or "
                  "'fluid.analysis' (or a 'coupling' section); wrote "
                  "the initial state (t = 0) only");
   }
+  control.log_summary(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
   spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
   if (options.plot) {
     // A static shell run records its load factor in the `time` column.
@@ -119,6 +149,10 @@ int run_command(const CommonOptions& options) {
     std::vector<std::string> args{(outdir / "probes.csv").string(), "-o", (outdir / "probes.png").string()};
     if (static_run) args.insert(args.end(), {"--x-label", "load factor"});
     make_plot("plot_probes.py", args);
+  }
+  if (control.stopped()) {
+    spdlog::warn("{}", control.stopped_message(options.case_file));
+    return kStoppedExitCode;
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "run_control.h"
 #include "shellflow/coupling/linear_flutter.h"
 
 namespace shellflow::app {
@@ -18,7 +19,7 @@ struct CommonOptions {
   std::vector<std::string> overrides;               ///< --set KEY=VALUE, applied to the case file
 };
 
-int run_command(const CommonOptions& options);
+int run_command(const CommonOptions& options, const StopOptions& stop = {});
 
 /// `shellflow flutter`: the linear flutter analysis (coupling/linear_flutter.h).
 struct FlutterOptions {

@@ -33,9 +33,10 @@ double seconds_since(Clock::time_point t0) {
 /// and, in a run without a flow, the fluid mesh's frames (displacement, mesh velocity).
 class MeshWriter {
  public:
-  MeshWriter(const setup::CoupledSystem& s, const io::CaseMeshes& meshes, const std::filesystem::path& outdir)
-      : s_(s), meshes_(meshes), outdir_(outdir), space_pvd_(outdir, "space") {
-    if (!s.flow->flow()) fluid_pvd_.emplace(outdir, "fluid");
+  MeshWriter(const setup::CoupledSystem& s, const io::CaseMeshes& meshes, const std::filesystem::path& outdir,
+             io::OutputMode mode)
+      : s_(s), meshes_(meshes), outdir_(outdir), space_pvd_(outdir, "space", mode) {
+    if (!s.flow->flow()) fluid_pvd_.emplace(outdir, "fluid", mode);
     q0_ = mesh::cell_qualities(*s.fluid_mesh);
   }
   /// Fluid mesh displacement and velocity in the case's node order (for probes and VTU).
@@ -75,6 +76,10 @@ class MeshWriter {
     const auto& sm = dynamic_cast<const motion::SpaceMeshMover&>(s_.flow->mover()).space_mesh();
     return {min_q, mean, ratio, inverted, sm.min_relative_jacobian()};
   }
+  void add_outputs(RunControl& control) {
+    if (fluid_pvd_) control.add_output(*fluid_pvd_);
+    control.add_output(space_pvd_);
+  }
   void write(long step, double t) {
     if (fluid_pvd_) {
       const std::string name = fmt::format("fluid_{:06}.vtu", step);
@@ -101,9 +106,12 @@ class MeshWriter {
 
 }  // namespace
 
-void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
-                 std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir,
-                 bool plot) {
+void run_coupled(const RunContext& run) {
+  const io::Case& c = run.c;
+  const io::CaseMeshes& meshes = run.meshes;
+  io::ProbeSet& probes = run.probes;
+  const std::filesystem::path& outdir = run.outdir;
+  const io::OutputMode mode = run.control.output_mode();
   const auto t_setup = Clock::now();
   // Before the setup: an unknown coupling.response.probe fails the run at once.
   const std::optional<std::size_t> response_index = io::response_probe(c);
@@ -118,20 +126,22 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
                    ? "staggered scheme with the linear load predictor"
                    : "staggered scheme without load predictor");
 
-  ShellWriter shell_writer(*s.shell, outdir, c.output.shell_stress);
+  ShellWriter shell_writer(*s.shell, outdir, c.output.shell_stress, mode);
   std::optional<FluidWriter> fluid_writer;
-  if (s.flow && s.flow->flow()) fluid_writer.emplace(*meshes.fluid, s.new_index, outdir);
+  if (s.flow && s.flow->flow()) fluid_writer.emplace(*meshes.fluid, s.new_index, outdir, mode);
   std::optional<MeshWriter> mesh_writer;
   std::optional<io::ProbeWriter> quality_csv;
   if (s.flow) {
-    mesh_writer.emplace(s, meshes, outdir);
+    mesh_writer.emplace(s, meshes, outdir, mode);
     quality_csv.emplace(outdir / "mesh_quality.csv",
                         std::vector<std::string>{"fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
-                                                 "fluid_inverted", "space_min_relative_jacobian"});
+                                                 "fluid_inverted", "space_min_relative_jacobian"},
+                        mode);
   }
   io::ProbeWriter coupling_csv(outdir / "coupling.csv",
                                {"newton_iterations", "substeps", "shell_force_x", "shell_force_y", "shell_force_z",
-                                "fluid_force_x", "fluid_force_y", "fluid_force_z", "force_balance"});
+                                "fluid_force_x", "fluid_force_y", "fluid_force_z", "force_balance"},
+                               mode);
   double setup_seconds = seconds_since(t_setup);
 
   // The response probe's history, for OUTDIR/response.json at the end.
@@ -162,12 +172,12 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
   };
 
   const shell::NewmarkSolver& solver = *s.solver;
-  auto record = [&](long step, bool write_fields) {
+  auto record = [&](long step, Record what) {
     const double t = solver.time();
     // Fresh views of every mesh this run moves; the initial ones of the others.
     const bool fresh_fluid = fluid_writer || mesh_writer, fresh_space = mesh_writer.has_value();
     std::vector<io::FieldView> fields;
-    for (const auto& f : initial_fields)
+    for (const auto& f : run.initial_fields)
       if (f.mesh != "shell" && !(f.mesh == "fluid" && fresh_fluid) && !(f.mesh == "space" && fresh_space))
         fields.push_back(f);
     for (const auto& v : shell_writer.update(solver.displacement(), &solver.velocity())) fields.push_back(v);
@@ -176,19 +186,19 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
     if (mesh_writer)
       for (const auto& v : mesh_writer->update())
         if (!(fluid_writer && v.mesh == "fluid")) fields.push_back(v);
-    probes.record(t, fields);
-    // (After a failed step the last valid state is recorded again, at a time already seen.)
-    if (response_index && (response_t.empty() || t > response_t.back())) {
-      response_t.push_back(t);
-      response_w.push_back(probes.sample(fields)[*response_index]);
+    if (what != Record::fields) {
+      probes.record(t, fields);
+      if (response_index) {
+        response_t.push_back(t);
+        response_w.push_back(probes.sample(fields)[*response_index]);
+      }
+      if (quality_csv) quality_csv->append(t, mesh_writer->quality());
     }
-    if (quality_csv) quality_csv->append(t, mesh_writer->quality());
-    if (!write_fields) return;
+    if (what == Record::probes) return;
     shell_writer.write(step, t, solver.displacement());
     if (fluid_writer) fluid_writer->write(step, *s.flow->flow());
     if (mesh_writer) mesh_writer->write(step, t);
   };
-  record(0, false);  // run_command wrote the initial frames
 
   const double dt = c.time->step;
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
@@ -196,6 +206,35 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
          transfer_seconds = 0.0;
   long newton_total = 0, substeps_total = 0;
   double worst_balance = 0.0;
+  RunControl& control = run.control;
+  control.add_output(probes.writer());
+  control.add_output(coupling_csv);
+  if (quality_csv) control.add_output(*quality_csv);
+  control.add_output(shell_writer.pvd());
+  if (fluid_writer) control.add_output(fluid_writer->pvd());
+  if (mesh_writer) mesh_writer->add_outputs(control);
+  control.set_state(
+      "coupled",
+      [&](ArchiveWriter& out) {
+        s.driver->save(out);
+        out.put(response_t);
+        out.put(response_w);
+        out.put(newton_total);
+        out.put(substeps_total);
+        out.put(worst_balance);
+      },
+      [&](ArchiveReader& in) {
+        s.driver->restore(in);
+        response_t = in.get_vector<double>();
+        response_w = in.get_vector<double>();
+        newton_total = in.get<long>();
+        substeps_total = in.get<long>();
+        worst_balance = in.get<double>();
+      });
+  if (control.restarting())
+    control.restore();
+  else
+    record(0, Record::probes_and_fields);  // the solvers' initial state (its frames replace run_command's)
   // A run stopped by an error still writes response.json, of the steps done.
   struct ResponseOnError {
     const std::function<void()> write;
@@ -207,7 +246,7 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
       }
     }
   } response_on_error{write_response};
-  run_time_loop(
+  const long last = run_time_loop(
       {steps, c.output.every, c.time->end, outdir, {}},
       [&](long step) {
         const auto t0 = Clock::now();
@@ -232,23 +271,23 @@ void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& 
                       r.shell_force.z(), balance);
         return r.time;
       },
-      [&](long step, bool fields) {
+      [&](long step, Record what) {
         const auto t1 = Clock::now();
-        record(step, fields);
+        record(step, what);
         output_seconds += seconds_since(t1);
       },
-      [&] { return solver.time(); });
+      [&] { return solver.time(); }, &control);
   spdlog::info("coupled run: {} shell steps to t = {:.6g} s, {} Newton iterations, {} fluid sub-steps; "
                "largest force imbalance {:.2e}",
-               steps, solver.time(), newton_total, substeps_total, worst_balance);
+               last, solver.time(), newton_total, substeps_total, worst_balance);
   spdlog::info("wall time {:.2f} s: setup {:.2f} s, shell {:.2f} s, fluid mesh motion {:.2f} s, flow {:.2f} s, "
                "load transfer {:.2f} s, output {:.2f} s",
                setup_seconds + steps_seconds + output_seconds, setup_seconds, shell_seconds, mesh_seconds,
                flow_seconds, transfer_seconds, output_seconds);
   write_response();
-  if (plot && !c.probes.empty())
+  if (run.plot && !c.probes.empty())
     make_plot("plot_flutter.py", {(outdir / "probes.csv").string(), "-o", outdir.string()});
-  if (plot && quality_csv)
+  if (run.plot && quality_csv)
     make_plot("plot_probes.py", {(outdir / "mesh_quality.csv").string(), "-o", (outdir / "mesh_quality.png").string()});
 }
 

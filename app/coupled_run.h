@@ -1,12 +1,7 @@
 #pragma once
 // A coupled fluid–shell run (a case with a `coupling` section): the shell and the flow (or
 // piston theory, or only the fluid mesh) advanced together by the partitioned driver.
-#include <filesystem>
-#include <span>
-
-#include "shellflow/io/case.h"
-#include "shellflow/io/case_meshes.h"
-#include "shellflow/io/probes.h"
+#include "run_context.h"
 
 namespace shellflow::app {
 
@@ -14,8 +9,6 @@ namespace shellflow::app {
 /// every output.every steps, coupling.csv (Newton iterations, sub-steps, force balance) and
 /// the probes every step, mesh_quality.csv when the fluid mesh moves, and the flutter plots.
 /// On a solver failure the last valid state is written before the error is reported.
-void run_coupled(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
-                 std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir,
-                 bool plot);
+void run_coupled(const RunContext& run);
 
 }  // namespace shellflow::app

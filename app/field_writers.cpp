@@ -55,8 +55,8 @@ std::vector<double> flatten(std::span<const Vec3> v) {
 }
 
 ShellWriter::ShellWriter(const shell::ShellModel& model, const std::filesystem::path& outdir,
-                         io::OutputSection::ShellStress stress)
-    : model_(model), outdir_(outdir), stress_(stress), pvd_(outdir, "shell") {}
+                         io::OutputSection::ShellStress stress, io::OutputMode mode)
+    : model_(model), outdir_(outdir), stress_(stress), pvd_(outdir, "shell", mode) {}
 
 std::vector<io::FieldView> ShellWriter::update(const Eigen::VectorXd& u, const Eigen::VectorXd* v) {
   const Index n = model_.num_nodes();
@@ -94,8 +94,8 @@ void ShellWriter::write(long step, double t, const Eigen::VectorXd& u) {
 }
 
 FluidWriter::FluidWriter(const mesh::Mesh& case_mesh, std::vector<Index> new_index,
-                         const std::filesystem::path& outdir)
-    : mesh_(case_mesh), new_index_(std::move(new_index)), outdir_(outdir), pvd_(outdir, "fluid"),
+                         const std::filesystem::path& outdir, io::OutputMode mode)
+    : mesh_(case_mesh), new_index_(std::move(new_index)), outdir_(outdir), pvd_(outdir, "fluid", mode),
       positions_(case_mesh.nodes.size()) {}
 
 std::vector<io::FieldView> FluidWriter::update(const fluid::FluidModel& model) {

@@ -21,11 +21,12 @@ namespace shellflow::app {
 class ShellWriter {
  public:
   ShellWriter(const shell::ShellModel& model, const std::filesystem::path& outdir,
-              io::OutputSection::ShellStress stress);
+              io::OutputSection::ShellStress stress, io::OutputMode mode = io::OutputMode::create);
   /// Updates the fields from the state (u, v; v null: at rest) and returns their probe views.
   std::vector<io::FieldView> update(const Eigen::VectorXd& u, const Eigen::VectorXd* v);
   /// Writes shell_<step>.vtu of the last update() at time t and adds it to shell.pvd.
   void write(long step, double t, const Eigen::VectorXd& u);
+  io::PvdWriter& pvd() { return pvd_; }
 
  private:
   const shell::ShellModel& model_;
@@ -39,9 +40,11 @@ class ShellWriter {
 /// new_index[i] is the solver's node of case node i).
 class FluidWriter {
  public:
-  FluidWriter(const mesh::Mesh& case_mesh, std::vector<Index> new_index, const std::filesystem::path& outdir);
+  FluidWriter(const mesh::Mesh& case_mesh, std::vector<Index> new_index, const std::filesystem::path& outdir,
+              io::OutputMode mode = io::OutputMode::create);
   std::vector<io::FieldView> update(const fluid::FluidModel& model);
   void write(long step, fluid::FluidModel& model);
+  io::PvdWriter& pvd() { return pvd_; }
 
  private:
   const mesh::Mesh& mesh_;

@@ -27,11 +27,12 @@ Vec3 displacement(const io::FluidMeshMotion& m, const Vec3& X, double t) {
 
 }  // namespace
 
-void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
-               std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir) {
+void run_fluid(const RunContext& run) {
+  const io::Case& c = run.c;
+  const std::filesystem::path& outdir = run.outdir;
   const io::FluidSection& section = *c.fluid;
   const io::FluidAnalysis& analysis = *section.analysis;
-  const mesh::Mesh& case_mesh = *meshes.fluid;
+  const mesh::Mesh& case_mesh = *run.meshes.fluid;
 
   // The solver works on a copy renumbered for memory locality; fields are mapped back.
   mesh::Mesh mesh = case_mesh;
@@ -69,22 +70,39 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
     model.set_mesh_velocity(mesh_velocity);
   }
 
-  FluidWriter writer(case_mesh, new_index, outdir);
-  auto record = [&](long step, bool write_fields) {
+  FluidWriter writer(case_mesh, new_index, outdir, run.control.output_mode());
+  auto record = [&](long step, Record what) {
     std::vector<io::FieldView> fields;
-    for (const auto& v : initial_fields)
+    for (const auto& v : run.initial_fields)
       if (v.mesh != "fluid") fields.push_back(v);
     const auto views = writer.update(model);
     fields.insert(fields.end(), views.begin(), views.end());
-    probes.record(model.time(), fields);
-    if (write_fields) writer.write(step, model);
+    if (what != Record::fields) run.probes.record(model.time(), fields);
+    if (what != Record::probes) writer.write(step, model);
   };
 
-  record(0, true);
   const bool steady = analysis.type == io::FluidAnalysisType::steady;
   const double end = steady ? static_cast<double>(analysis.steps) : c.time->end;
   double first_density_rate = 0.0;
   bool converged = false;
+  run.control.add_output(run.probes.writer());
+  run.control.add_output(writer.pvd());
+  run.control.set_state(
+      "flow",
+      [&](ArchiveWriter& out) {
+        model.save(out);
+        out.put(first_density_rate);
+        out.put(converged);
+      },
+      [&](ArchiveReader& in) {
+        model.restore(in);
+        first_density_rate = in.get<double>();
+        converged = in.get<bool>();
+      });
+  if (run.control.restarting())
+    run.control.restore();
+  else
+    record(0, Record::probes_and_fields);
   TimeLoop loop;
   loop.every = c.output.every;
   loop.end_time = end;
@@ -115,7 +133,7 @@ void run_fluid(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
         }
         return model.time();
       },
-      record, [&] { return model.time(); });
+      record, [&] { return model.time(); }, &run.control);
   if (steady) {
     spdlog::info("steady flow: {} local steps, density rate {:.3e} ({:.2e} of the first step's)",
                  step, model.density_rate(),

@@ -2,11 +2,13 @@
 //
 //   shellflow mesh  cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR] [--json]
 //   shellflow check cases/panel_flutter/clamped_clamped.yaml
-//   shellflow run   cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR]
+//   shellflow run   cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR] [--stop-after N]
+//                   [--stop-at-wall S] [--restart OUTDIR[/checkpoint_NNNNNN.ckpt]]
 //   shellflow flutter cases/panel_flutter/clamped_clamped_piston.yaml [--parameter mach] [--json]
 //
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
-// exit code is 1 (2 for a bad command line).
+// exit code is 1 (2 for a bad command line); a run stopped with a checkpoint (--stop-after,
+// --stop-at-wall, SIGINT/SIGTERM) exits with 75.
 #include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -17,11 +19,13 @@
 #include <string>
 
 #include "commands.h"
+#include "run_control.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
 
 int main(int argc, char** argv) {
   using namespace shellflow;
+  (void)app::process_start();  // --stop-at-wall counts from here
   // Log to stderr so that stdout carries only results (tables, JSON).
   auto logger = spdlog::stderr_color_mt("shellflow");
   spdlog::set_default_logger(logger);
@@ -61,6 +65,19 @@ int main(int argc, char** argv) {
              "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png)");
   add_case(run);
   add_output(run);
+  app::StopOptions stop;
+  run->add_option("--restart", stop.restart,
+                  "OUTDIR or OUTDIR/checkpoint_NNNNNN.ckpt: continue a run from its newest (or that) checkpoint, "
+                  "in its folder, bit for bit; the case file must be the same (time.end may grow); see "
+                  "docs/restart.md");
+  run->add_option("--stop-after", stop.stop_after,
+                  "Stop after STEPS steps of this invocation with a checkpoint (exit code 75); continue with "
+                  "--restart")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--stop-at-wall", stop.stop_at_wall,
+                  "Stop at the first step boundary after SECONDS of wall time with a checkpoint (exit code 75), "
+                  "e.g. before a batch queue's limit")
+      ->check(CLI::PositiveNumber);
   auto* mesh = cli.add_subcommand(
       "mesh", "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
               "<mesh>.vtu, print sizes and quality, plot the meshes");
@@ -120,7 +137,7 @@ int main(int argc, char** argv) {
                     : quiet ? spdlog::level::warn
                             : spdlog::level::info);
   try {
-    if (*run) return app::run_command(options);
+    if (*run) return app::run_command(options, stop);
     if (*mesh) return app::mesh_command(options, json);
     if (*check) return app::check_command(options);
     if (*flutter) return app::flutter_command(options, flutter_options);

@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "field_writers.h"
+#include "time_loop.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/progress.h"
 #include "shellflow/io/mesh_output.h"
@@ -74,14 +75,15 @@ std::unique_ptr<motion::FluidMeshMover> make_mover(const io::MotionSection& m,
 
 }  // namespace
 
-void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
-                     std::span<const io::FieldView> initial_fields,
-                     const std::filesystem::path& outdir, bool plot) {
+void run_mesh_motion(const RunContext& run) {
+  const io::Case& c = run.c;
+  const std::filesystem::path& outdir = run.outdir;
   const io::MotionSection& m = *c.motion;
   auto boundary = prescribed_motion(m);
-  auto mover = make_mover(m, meshes, *boundary);
+  auto mover = make_mover(m, run.meshes, *boundary);
   const auto* space_mover = dynamic_cast<const motion::SpaceMeshMover*>(mover.get());
-  const mesh::Mesh& fluid = *meshes.fluid;
+  const mesh::Mesh& fluid = *run.meshes.fluid;
+  const io::OutputMode mode = run.control.output_mode();
 
   std::vector<std::string> columns;
   for (std::size_t k = 0; k < m.prescribed->modes.size(); ++k) columns.push_back(fmt::format("A{}", k + 1));
@@ -92,36 +94,29 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
     columns.emplace_back("space_min_quality");
     columns.emplace_back("space_min_relative_jacobian");
   }
-  io::ProbeWriter quality_csv(outdir / "motion_quality.csv", columns);
-  io::PvdWriter fluid_pvd(outdir, "fluid");
+  io::ProbeWriter quality_csv(outdir / "motion_quality.csv", columns, mode);
+  io::PvdWriter fluid_pvd(outdir, "fluid", mode);
   std::optional<io::PvdWriter> space_pvd;
-  if (space_mover) space_pvd.emplace(outdir, "space");
+  if (space_mover) space_pvd.emplace(outdir, "space", mode);
 
   const std::vector<double> q0 = mesh::cell_qualities(fluid);
   std::vector<Vec3> x(fluid.nodes.size()), w(x.size()), displacement(x.size());
   const double dt = c.time->step;
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
-  Progress progress(0.0, c.time->end);
-  double last_written = 0.0;  // run_command wrote the initial state
-  long last_written_step = 0;
   std::vector<double> u_flat, w_flat, su, sv;
-  // Writes fluid (and space) fields of the current x, w, u_flat, w_flat, su, sv.
-  auto write_state = [&](long step, double t) {
-    const std::string name = fmt::format("fluid_{:06}.vtu", step);
-    io::write_mesh_vtu(outdir / name, fluid,
-                       {{"displacement", 3, u_flat}, {"mesh_velocity", 3, w_flat}}, t, x);
-    fluid_pvd.add(t, name);
+  // The fields of the state of step `step` (x, w and the space mesh's) for probes and VTU.
+  auto update_fields = [&] {
+    for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];
+    u_flat = flatten(displacement);
+    w_flat = flatten(w);
     if (space_mover) {
-      const auto xs = space_mover->space_mesh().current_positions();
-      const std::string sname = fmt::format("space_{:06}.vtu", step);
-      io::write_mesh_vtu(outdir / sname, *meshes.space,
-                         {{"displacement", 3, su}, {"velocity", 3, sv}}, t, xs);
-      space_pvd->add(t, sname);
+      su = flatten(space_mover->space_mesh().displacement());
+      sv = flatten(space_mover->space_mesh().velocity());
     }
-    last_written = t;
-    last_written_step = step;
   };
-  for (long step = 0; step <= steps; ++step) {
+  // Moves the mesh to step `step`: quality row, or (an inverted element) the state of the
+  // step before restored and a SolverError.
+  auto advance = [&](long step) {
     const double t = static_cast<double>(step) * dt;
     mover->update(t, x, w);
     const auto q = mesh::cell_qualities(fluid, x);
@@ -139,25 +134,13 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
     if (inverted > 0) {
       const auto v = fluid.cells.element(worst);
       const Vec3 centre = 0.25 * (x[v[0]] + x[v[1]] + x[v[2]] + x[v[3]]);
-      if (step > 0 && last_written_step != step - 1) {
-        // Write the last valid state (the movers are deterministic: recompute it).
-        const double t_valid = static_cast<double>(step - 1) * dt;
-        mover->update(t_valid, x, w);
-        for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];
-        u_flat = flatten(displacement);
-        w_flat = flatten(w);
-        if (space_mover) {
-          su = flatten(space_mover->space_mesh().displacement());
-          sv = flatten(space_mover->space_mesh().velocity());
-        }
-        write_state(step - 1, t_valid);
-      }
+      // The last valid state (the movers are deterministic: recompute it) for the loop to write.
+      if (step > 0) mover->update(static_cast<double>(step - 1) * dt, x, w);
+      update_fields();
       throw SolverError(fmt::format(
-          "t = {:.6g} s (step {}): the mesh motion inverts {} fluid element(s), the worst {} at "
-          "({:.4g}, {:.4g}, {:.4g}) m; the last valid state (t = {:.6g} s) is in {}; reduce the "
-          "amplitude or change motion.method / the IDW exponents",
-          t, step, inverted, worst, centre.x(), centre.y(), centre.z(), last_written,
-          outdir.string()));
+          "t = {:.6g} s: the mesh motion inverts {} fluid element(s), the worst {} at ({:.4g}, {:.4g}, {:.4g}) m; "
+          "reduce the amplitude or change motion.method / the IDW exponents",
+          t, inverted, worst, centre.x(), centre.y(), centre.z()));
     }
     std::vector<double> row;
     for (const auto& mode : m.prescribed->modes) row.push_back(mode.amplitude.value(t));
@@ -170,32 +153,63 @@ void run_mesh_motion(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeS
       row.push_back(sm.min_relative_jacobian());
     }
     quality_csv.append(t, row);
-
-    for (std::size_t i = 0; i < x.size(); ++i) displacement[i] = x[i] - fluid.nodes[i];
-    u_flat = flatten(displacement);
-    w_flat = flatten(w);
-    std::vector<io::FieldView> fields(initial_fields.begin(), initial_fields.end());
-    std::erase_if(fields, [](const io::FieldView& f) { return f.mesh == "fluid" && f.quantity == "mesh_velocity"; });
-    fields.push_back({"fluid", "mesh_velocity", 3, w_flat});
-    if (space_mover) {
-      su = flatten(space_mover->space_mesh().displacement());
-      sv = flatten(space_mover->space_mesh().velocity());
-      std::erase_if(fields, [](const io::FieldView& f) { return f.mesh == "space"; });
-      fields.push_back({"space", "displacement", 3, su});
-      fields.push_back({"space", "velocity", 3, sv});
+    update_fields();
+    return t;
+  };
+  double t_state = 0.0;  // time of the state in x, w
+  auto record = [&](long step, Record what) {
+    const double t = static_cast<double>(step) * dt;
+    t_state = t;
+    if (what != Record::fields) {
+      std::vector<io::FieldView> fields(run.initial_fields.begin(), run.initial_fields.end());
+      std::erase_if(fields, [](const io::FieldView& f) { return f.mesh == "fluid" && f.quantity == "mesh_velocity"; });
+      fields.push_back({"fluid", "mesh_velocity", 3, w_flat});
+      if (space_mover) {
+        std::erase_if(fields, [](const io::FieldView& f) { return f.mesh == "space"; });
+        fields.push_back({"space", "displacement", 3, su});
+        fields.push_back({"space", "velocity", 3, sv});
+      }
+      run.probes.record(t, fields);
     }
-    probes.record(t, fields);
+    if (what == Record::probes) return;
+    const std::string name = fmt::format("fluid_{:06}.vtu", step);
+    io::write_mesh_vtu(outdir / name, fluid, {{"displacement", 3, u_flat}, {"mesh_velocity", 3, w_flat}}, t, x);
+    fluid_pvd.add(t, name);
+    if (space_mover) {
+      const auto xs = space_mover->space_mesh().current_positions();
+      const std::string sname = fmt::format("space_{:06}.vtu", step);
+      io::write_mesh_vtu(outdir / sname, *run.meshes.space, {{"displacement", 3, su}, {"velocity", 3, sv}}, t, xs);
+      space_pvd->add(t, sname);
+    }
+  };
 
-    if (step % c.output.every == 0 || step == steps) write_state(step, t);
-    progress.update(t, step);
+  run.control.add_output(run.probes.writer());
+  run.control.add_output(quality_csv);
+  run.control.add_output(fluid_pvd);
+  if (space_pvd) run.control.add_output(*space_pvd);
+  // The movers are algebraic in time (the Laplace mover's warm start aside): the state is
+  // the mover's.
+  run.control.set_state(
+      "mesh motion", [&](ArchiveWriter& out) { mover->save(out); }, [&](ArchiveReader& in) { mover->restore(in); });
+  if (run.control.restarting()) {
+    run.control.restore();
+  } else {
+    try {
+      advance(0);
+    } catch (const SolverError& e) {
+      throw SolverError(fmt::format("{} (step 0); nothing but the initial mesh is in {}", e.what(), outdir.string()));
+    }
+    record(0, Record::probes_and_fields);
   }
-  progress.finish();
+  const long last = run_time_loop({steps, c.output.every, c.time->end, outdir, {}}, advance, record,
+                                  [&] { return t_state; }, &run.control);
   std::fflush(stdout);
-  if (plot)
+  if (run.plot)
     make_plot("plot_probes.py", {(outdir / "motion_quality.csv").string(), "--x", "A1", "-o",
                                  (outdir / "motion_quality.png").string()});
-  spdlog::info("mesh motion: {} steps, fluid mesh valid throughout; quality history in {}", steps,
-               (outdir / "motion_quality.csv").string());
+  if (!run.control.stopped())
+    spdlog::info("mesh motion: {} steps, fluid mesh valid throughout; quality history in {}", last,
+                 (outdir / "motion_quality.csv").string());
 }
 
 }  // namespace shellflow::app

@@ -56,6 +56,7 @@ bool all_digits(std::string_view s, std::size_t at_least) {
 }  // namespace
 
 bool is_run_output_name(const std::string& full) {
+  if (io::is_checkpoint_name(full)) return true;
   std::string_view name = full;
   if (name.ends_with(".tmp")) name.remove_suffix(4);  // a write interrupted by a crash
   if (std::find(kRunOutputNames.begin(), kRunOutputNames.end(), name) != kRunOutputNames.end()) return true;

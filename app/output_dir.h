@@ -10,7 +10,8 @@ io::Case read_case(const CommonOptions& options);
 /// The output directory of a run (-o, else the case's output.directory), created.
 std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions& options);
 /// Whether `name` is a file `shellflow run` writes: `<mesh>_NNNNNN.vtu`, `<mesh>.pvd`,
-/// `shell_mode_NN.vtu`, probes.csv, coupling.csv, response.json, the plots ... (docs/output.md),
+/// `shell_mode_NN.vtu`, probes.csv, coupling.csv, response.json, the plots, checkpoint_NNNNNN.ckpt
+/// ... (docs/output.md),
 /// or the `.tmp` leftover of one.
 bool is_run_output_name(const std::string& name);
 /// Removes the files of an earlier run from `dir` (only regular files whose names

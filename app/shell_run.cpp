@@ -136,43 +136,49 @@ void run_modal(const io::Case& c, const shell::ShellModel& model, io::ProbeSet& 
 
 }  // namespace
 
-void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& probes,
-               std::span<const io::FieldView> initial_fields, const std::filesystem::path& outdir) {
+void run_shell(const RunContext& run) {
+  const io::Case& c = run.c;
+  io::ProbeSet& probes = run.probes;
+  const std::span<const io::FieldView> initial_fields = run.initial_fields;
+  const std::filesystem::path& outdir = run.outdir;
   const io::ShellSection& s = *c.shell;
   const io::ShellAnalysis& analysis = *s.analysis;
-  const mesh::Mesh& mesh = *meshes.shell;
+  const mesh::Mesh& mesh = *run.meshes.shell;
   shell::ShellModel model = setup::build_shell_model(s, mesh);
+  if (analysis.type != io::ShellAnalysisType::dynamic)
+    run.control.not_time_stepping(analysis.type == io::ShellAnalysisType::modal ? "a modal analysis"
+                                                                              : "a static analysis");
   if (analysis.type == io::ShellAnalysisType::modal) {
     run_modal(c, model, probes, initial_fields, outdir);  // before ShellWriter: it restarts shell.pvd
     return;
   }
   const Index n = mesh.num_nodes();
-  ShellWriter writer(model, outdir, c.output.shell_stress);
+  ShellWriter writer(model, outdir, c.output.shell_stress, run.control.output_mode());
 
   // Records probes and (every output.every steps) fields of state u, v at time / level t.
   auto record = [&](long step, double t, const Eigen::VectorXd& u, const Eigen::VectorXd* v,
-                    bool write_fields) {
+                    Record what) {
     std::vector<io::FieldView> fields;
     for (const auto& f : initial_fields)
       if (f.mesh != "shell") fields.push_back(f);
     const auto views = writer.update(u, v);
     fields.insert(fields.end(), views.begin(), views.end());
-    probes.record(t, fields);
-    if (write_fields) writer.write(step, t, u);
+    if (what != Record::fields) probes.record(t, fields);
+    if (what != Record::probes) writer.write(step, t, u);
   };
 
   if (analysis.type == io::ShellAnalysisType::static_load) {
     shell::NewtonOptions newton;
     newton.modified = analysis.modified_newton;
     shell::StaticSolver solver(model, newton);
-    record(0, 0.0, solver.displacement(), nullptr, true);
+    record(0, 0.0, solver.displacement(), nullptr, Record::probes_and_fields);
     long step = 0;
     auto on_level = [&](const shell::LoadStep& level, bool last) {
       ++step;
       spdlog::info("load factor {:.6g}: converged in {} Newton iterations", level.load_factor,
                    level.iterations);
       record(step, level.load_factor, solver.displacement(), nullptr,
-             step % c.output.every == 0 || last);
+             step % c.output.every == 0 || last ? Record::probes_and_fields : Record::probes);
     };
     try {
       switch (analysis.control) {
@@ -219,7 +225,7 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
         }
       }
     } catch (const SolverError& e) {
-      record(step + 1, solver.load_factor(), solver.displacement(), nullptr, true);
+      record(step + 1, solver.load_factor(), solver.displacement(), nullptr, Record::probes_and_fields);
       throw SolverError(fmt::format("{}; the last converged state (load factor {:.6g}) is in {}",
                                     e.what(), solver.load_factor(), outdir.string()));
     }
@@ -230,11 +236,26 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
   shell::NewmarkSolver solver(model, setup::newmark_options(analysis), [&](double t) { return load_function.value(t); });
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
   solver.set_initial_state(zero, zero);
-  record(0, 0.0, solver.displacement(), &solver.velocity(), true);
+  long newton_total = 0;
+  run.control.add_output(probes.writer());
+  run.control.add_output(writer.pvd());
+  run.control.set_state(
+      "shell dynamics",
+      [&](ArchiveWriter& out) {
+        solver.save(out);
+        out.put(newton_total);
+      },
+      [&](ArchiveReader& in) {
+        solver.restore(in);
+        newton_total = in.get<long>();
+      });
+  if (run.control.restarting())
+    run.control.restore();
+  else
+    record(0, 0.0, solver.displacement(), &solver.velocity(), Record::probes_and_fields);
   const double dt = c.time->step;
   const auto steps = static_cast<long>(std::llround(c.time->end / dt));
-  long newton_total = 0;
-  run_time_loop(
+  const long last = run_time_loop(
       {steps, c.output.every, c.time->end, outdir, {}},
       [&](long step) {
         const int iterations = solver.advance(dt);
@@ -242,10 +263,10 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
         spdlog::debug("step {} t = {:.6g} s: {} Newton iterations", step, solver.time(), iterations);
         return solver.time();
       },
-      [&](long step, bool fields) { record(step, solver.time(), solver.displacement(), &solver.velocity(), fields); },
-      [&] { return solver.time(); });
+      [&](long step, Record what) { record(step, solver.time(), solver.displacement(), &solver.velocity(), what); },
+      [&] { return solver.time(); }, &run.control);
   spdlog::info("shell dynamics: {} steps to t = {:.6g} s, {} Newton iterations, {} factorisations",
-               steps, solver.time(), newton_total, solver.matrix_factorizations());
+               last, solver.time(), newton_total, solver.matrix_factorizations());
 }
 
 }  // namespace shellflow::app

@@ -1,8 +1,11 @@
 // The hooks of NewmarkSolver for the coupling (newmark_solver.h): the linear external force
 // -(A y + B v) against mass damping (B = c M) and against the exact discrete frequency of a
 // rigid translation (A = alpha M), with the iteration count that only the right iteration
-// matrix gives; exact state save / restore, bit for bit, under full and modified Newton.
+// matrix gives; exact state save / restore, bit for bit, under full and modified Newton, and
+// through a checkpoint archive into a new solver.
 #include <gtest/gtest.h>
+
+#include <memory>
 
 #include "reference_strip.h"
 #include "shellflow/core/error.h"
@@ -163,6 +166,68 @@ TEST(NewmarkState, RestoreThenStepRepeatsTheStepsBitForBit) {
         expect_same_bits(straight.state(), reference);
       }
     }
+}
+
+// A checkpoint (save into an archive, restore into a new solver) continues an uninterrupted
+// run bit for bit, also under modified Newton, where the kept iteration matrix is part of
+// the path: a restore of the state alone (a fresh matrix) leaves the path.
+TEST(NewmarkCheckpoint, ANewSolverRestoredFromTheArchiveContinuesTheRunBitForBit) {
+  const ShellModel model = loaded_strip();
+  const double dt = 1e-4;
+  for (TimeScheme scheme : {TimeScheme::newmark, TimeScheme::midpoint})
+    for (bool modified : {false, true}) {
+      SCOPED_TRACE(::testing::Message() << "midpoint " << (scheme == TimeScheme::midpoint) << " modified " << modified);
+      NewmarkOptions options;
+      options.scheme = scheme;
+      options.newton.modified = modified;
+      const auto make = [&] {
+        auto solver = std::make_unique<NewmarkSolver>(model, options, [](double) { return 1.0; });
+        solver->set_initial_state(Eigen::VectorXd::Zero(model.num_dofs()), strip_velocity(model));
+        return solver;
+      };
+      auto straight = make();
+      for (int s = 0; s < 6; ++s) straight->advance(dt);
+      bool kept_matrix_matters = false;
+      for (int split = 1; split < 6; ++split) {
+        SCOPED_TRACE(::testing::Message() << "checkpoint after step " << split);
+        auto first = make();
+        for (int s = 0; s < split; ++s) first->advance(dt);
+        ArchiveWriter out;
+        first->save(out);
+        const NewmarkState at_checkpoint = first->state();
+        first.reset();
+
+        auto second = make();
+        ArchiveReader in(out.bytes(), "test checkpoint");
+        second->restore(in);
+        EXPECT_EQ(in.remaining(), 0u);
+        expect_same_bits(second->state(), at_checkpoint);
+        for (int s = split; s < 6; ++s) second->advance(dt);
+        expect_same_bits(second->state(), straight->state());
+        EXPECT_EQ(second->matrix_factorizations(), straight->matrix_factorizations());
+
+        auto state_only = make();
+        state_only->restore(at_checkpoint);
+        for (int s = split; s < 6; ++s) state_only->advance(dt);
+        kept_matrix_matters = kept_matrix_matters || state_only->state().u != straight->state().u;
+      }
+      // Without the kept matrix a restart leaves the path for some checkpoint step.
+      EXPECT_EQ(kept_matrix_matters, modified);
+    }
+}
+
+TEST(NewmarkCheckpoint, AnArchiveOfAnotherModelIsRefused) {
+  const ShellModel model = loaded_strip();
+  NewmarkSolver solver(model);
+  ArchiveWriter out;
+  out.put(Eigen::VectorXd(Eigen::VectorXd::Zero(7)));
+  ArchiveReader in(out.bytes(), "other.ckpt");
+  try {
+    solver.restore(in);
+    FAIL() << "restored a checkpoint of another model";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("other.ckpt"), std::string::npos) << e.what();
+  }
 }
 
 TEST(NewmarkState, RestoreTakesTheStateAsGiven) {

@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "shellflow/core/archive.h"
 #include "shellflow/coupling/piston_theory.h"
 #include "shellflow/coupling/shell_motion.h"
 
@@ -40,6 +41,9 @@ class AerodynamicModel {
   /// Force of the gas (pressure minus the reference pressure) on the wet boundary from the
   /// fluid side, when the model has a fluid mesh.
   virtual std::optional<Vec3> fluid_side_force() const { return std::nullopt; }
+  /// Checkpoint of the model's state (core/archive.h); piston theory has none.
+  virtual void save(ArchiveWriter&) const {}
+  virtual void restore(ArchiveReader&) {}
 };
 
 /// Piston theory as an aerodynamic model: nothing to advance; the loads follow from the

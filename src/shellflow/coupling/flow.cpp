@@ -121,6 +121,29 @@ void FlowModel::pressure_rise(const Eigen::VectorXd&, const Eigen::VectorXd&, st
   transfer_to_load_points(loads_, node_pressure_, dp);
 }
 
+void FlowModel::save(ArchiveWriter& out) const {
+  out.put(time_);
+  out.put(x_);
+  out.put(w_);
+  mover_->save(out);
+  out.put(flow_ != nullptr);
+  if (flow_) flow_->save(out);
+}
+
+void FlowModel::restore(ArchiveReader& in) {
+  const double time = in.get<double>();
+  std::vector<Vec3> x = in.get_vec3s(), w = in.get_vec3s();
+  in.expect_size("the fluid mesh's positions", x.size(), x_.size());
+  in.expect_size("the fluid mesh's velocities", w.size(), w_.size());
+  mover_->restore(in);
+  if (in.get<bool>() != (flow_ != nullptr))
+    throw Error(in.what() + ": the checkpoint is of a run " + (flow_ ? "without" : "with") + " a flow");
+  if (flow_) flow_->restore(in);
+  time_ = time;
+  x_ = std::move(x);
+  w_ = std::move(w);
+}
+
 std::optional<Vec3> FlowModel::fluid_side_force() const {
   if (!flow_) return std::nullopt;
   const auto x = flow_->positions();

@@ -46,6 +46,9 @@ class FlowModel final : public AerodynamicModel {
   void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) override;
   std::span<const double> sign() const override { return loads_.sign; }
   std::optional<Vec3> fluid_side_force() const override;
+  /// Time, fluid node positions and mesh velocities, the mover's and the flow's states.
+  void save(ArchiveWriter& out) const override;
+  void restore(ArchiveReader& in) override;
 
   /// Sub-steps the next shell step of length dt needs (auto) or gets (fixed); throws
   /// SolverError naming the time and the n_sub needed when a fixed count is too small.

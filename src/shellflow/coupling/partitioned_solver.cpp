@@ -55,6 +55,26 @@ Vec3 PartitionedSolver::shell_side_force(std::span<const double> dp) const {
   return f;
 }
 
+void PartitionedSolver::save(ArchiveWriter& out) const {
+  shell_.save(out);
+  flow_.save(out);
+  out.put(current_);
+  out.put(previous_);
+  out.put(has_previous_);
+}
+
+void PartitionedSolver::restore(ArchiveReader& in) {
+  shell_.restore(in);
+  flow_.restore(in);
+  for (std::vector<double>* loads : {&current_, &previous_}) {
+    std::vector<double> stored = in.get_vector<double>();
+    in.expect_size("the coupling loads", stored.size(), loads->size());
+    *loads = std::move(stored);
+  }
+  has_previous_ = in.get<bool>();
+  motion_.set_state(shell_.time(), shell_.displacement(), shell_.velocity());
+}
+
 CouplingStepReport PartitionedSolver::step(double dt) {
   CouplingStepReport report;
   const shell::NewmarkState start = shell_.state();

@@ -65,6 +65,13 @@ class PartitionedSolver {
   Vec3 shell_side_force(std::span<const double> dp) const;
   const PartitionedOptions& options() const { return options_; }
 
+  /// Checkpoint of the coupled state (core/archive.h): the shell solver (with its kept
+  /// iteration matrix), the aerodynamic model (flow, fluid mesh, mover) and the loads of
+  /// the last two steps (the predictor's history). restore() also puts the shell motion's
+  /// window at the restored state.
+  void save(ArchiveWriter& out) const;
+  void restore(ArchiveReader& in);
+
  private:
   void apply_loads();
 

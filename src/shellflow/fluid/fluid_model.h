@@ -13,12 +13,14 @@
 #include <string_view>
 #include <vector>
 
+#include "shellflow/core/archive.h"
 #include "shellflow/fluid/boundary.h"
 #include "shellflow/fluid/gas.h"
 #include "shellflow/fluid/geometry.h"
 #include "shellflow/fluid/ordering.h"
 #include "shellflow/fluid/residual.h"
 #include "shellflow/fluid/shock_capturing.h"
+#include "shellflow/core/archive.h"
 #include "shellflow/fluid/state.h"
 #include "shellflow/fluid/viscous.h"
 #include "shellflow/mesh/mesh.h"
@@ -106,6 +108,10 @@ class FluidModel {
   /// Stepping from it then repeats the original steps bit for bit. Throws InputError for
   /// sizes that do not match the mesh, SolverError for an inverted element in x.
   void restore(const FluidSnapshot& snapshot);
+  /// The snapshot into / out of a checkpoint (core/archive.h). Throws Error for a checkpoint
+  /// of another mesh.
+  void save(ArchiveWriter& out) const;
+  void restore(ArchiveReader& in);
 
   /// One step on a fixed mesh.
   void step(double dt);

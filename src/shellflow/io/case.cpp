@@ -649,6 +649,7 @@ OutputSection read_output(const YamlNode& root, const std::string& case_name) {
       out.directory = *dir;
     }
     out.every = node->optional<int>("every", 1, Range::at_least(1));
+    out.checkpoint_every = node->optional<long>("checkpoint_every", 0, Range::non_negative());
     const std::string stress =
         node->choice("shell_stress", {"cauchy", "second_piola_kirchhoff", "none"}, "cauchy");
     out.shell_stress = stress == "cauchy" ? OutputSection::ShellStress::cauchy
@@ -727,6 +728,7 @@ Case read_case(const YamlNode& root) {
   if (c.coupling) (void)response_probe(c);  // an unknown coupling.response.probe, before anything runs
   if (auto node = root.optional_child("study")) c.study = detail::read_study(*node, c);
   root.finish();
+  c.digests = case_digests(root.yaml());
   std::stable_sort(
       c.group_references.begin(), c.group_references.end(),
       [](const GroupReference& a, const GroupReference& b) { return a.where.line < b.where.line; });

@@ -26,6 +26,7 @@
 #include "shellflow/core/expression.h"
 #include "shellflow/core/time_function.h"
 #include "shellflow/core/types.h"
+#include "shellflow/io/checkpoint.h"
 #include "shellflow/io/yaml_reader.h"
 
 namespace shellflow::io {
@@ -390,6 +391,9 @@ struct OutputSection {
   /// Default `out/<name>`; the command line's `-o` overrides it.
   std::filesystem::path directory;
   int every = 1;  ///< write fields every N steps (probes are written every step)
+  /// Write a checkpoint every N steps (docs/restart.md); 0: only when a run is stopped
+  /// (--stop-after, --stop-at-wall, SIGINT/SIGTERM).
+  long checkpoint_every = 0;
   /// Stress written in the shell VTU at the bottom, middle and top surfaces.
   enum class ShellStress { cauchy, second_piola_kirchhoff, none } shell_stress = ShellStress::cauchy;
 };
@@ -435,6 +439,9 @@ struct Case {
   OutputSection output;
   /// Every physical group the case names, in file order.
   std::vector<GroupReference> group_references;
+  /// Digests of the case file's sections, after the overrides (io/checkpoint.h): what a
+  /// restart compares with its checkpoint's.
+  std::vector<SectionDigest> digests;
 };
 
 /// Reads and checks a case file, with `overrides` (`--set KEY=VALUE`) applied to its keys

@@ -28,6 +28,16 @@ const char* name_problem(const std::string& name) {
   return nullptr;
 }
 
+std::string header_line(const std::vector<std::string>& names) {
+  std::string header = "time";
+  for (const auto& n : names) {
+    header += ',';
+    header += n;
+  }
+  header += '\n';
+  return header;
+}
+
 std::string number(double x) {
   if (std::isnan(x)) return "nan";
   return fmt::format("{:.17g}", x);  // inf, -inf as such
@@ -35,7 +45,7 @@ std::string number(double x) {
 
 }  // namespace
 
-ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> names)
+ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> names, OutputMode mode)
     : path_(std::move(path)), names_(std::move(names)) {
   std::set<std::string> seen;
   for (std::size_t i = 0; i < names_.size(); ++i) {
@@ -52,6 +62,7 @@ ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> na
     }
   }
 
+  if (mode == OutputMode::resume) return;
   if (path_.has_parent_path()) {
     std::error_code ec;
     std::filesystem::create_directories(path_.parent_path(), ec);
@@ -65,14 +76,42 @@ ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> na
     throw Error(
         fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
   }
-  std::string header = "time";
-  for (const auto& n : names_) {
-    header += ',';
-    header += n;
-  }
-  header += '\n';
+  const std::string header = header_line(names_);
   out_ << header << std::flush;
   if (!out_) throw Error(fmt::format("cannot write {}", path_.string()));
+  bytes_ = header.size();
+}
+
+void ProbeWriter::save(ArchiveWriter& out) const {
+  out.put(bytes_);
+  out.put(static_cast<std::uint64_t>(rows_));
+}
+
+void ProbeWriter::restore(ArchiveReader& in) {
+  const auto bytes = in.get<std::uint64_t>();
+  const auto rows = in.get<std::uint64_t>();
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path_, ec);
+  if (ec)
+    throw Error(fmt::format("{}: cannot continue it ({}); the restart needs the output of the run it continues",
+                            path_.string(), ec.message()));
+  if (size < bytes)
+    throw Error(fmt::format("{}: {} bytes, fewer than the {} at the checkpoint; it was changed after the "
+                            "checkpoint, so the run cannot be continued bit for bit",
+                            path_.string(), size, bytes));
+  const std::string header = header_line(names_);
+  std::string first(header.size(), '\0');
+  std::ifstream(path_, std::ios::binary).read(first.data(), std::streamsize(first.size()));
+  if (first != header)
+    throw Error(fmt::format("{}: its header is not '{}'; it is not the output of this run", path_.string(),
+                            header.substr(0, header.size() - 1)));
+  std::filesystem::resize_file(path_, bytes, ec);
+  if (ec) throw Error(fmt::format("{}: cannot cut it back to the checkpoint ({})", path_.string(), ec.message()));
+  out_.open(path_, std::ios::out | std::ios::app);
+  if (!out_)
+    throw Error(fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
+  bytes_ = bytes;
+  rows_ = rows;
 }
 
 void ProbeWriter::append(double time, std::span<const double> values) {
@@ -89,12 +128,14 @@ void ProbeWriter::append(double time, std::span<const double> values) {
     row += number(v);
   }
   row += '\n';
+  if (!out_.is_open()) throw Error(fmt::format("{}: not open (a resumed writer before restore)", path_.string()));
   out_ << row << std::flush;  // one write per row: a crash leaves whole rows
   if (!out_) {
     throw Error(fmt::format("cannot write {} (disk full?): {}", path_.string(),
                             std::strerror(errno)));
   }
   ++rows_;
+  bytes_ += row.size();
 }
 
 }  // namespace shellflow::io

@@ -83,8 +83,8 @@ class Locators {
 }  // namespace
 
 ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
-                   const std::filesystem::path& csv_path)
-    : writer_(csv_path, probe_names(probes)) {
+                   const std::filesystem::path& csv_path, OutputMode mode)
+    : writer_(csv_path, probe_names(probes), mode) {
   Locators locators;
   for (const Probe& p : probes) {
     const mesh::Mesh* m = meshes.find(p.mesh);

@@ -28,7 +28,7 @@ class ProbeSet {
   /// a cell; in a shell mesh it is moved to the closest point of the surface, which must lie
   /// within 1e-6 of the mesh size. Throws InputError at the probe's line otherwise.
   ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
-           const std::filesystem::path& csv_path);
+           const std::filesystem::path& csv_path, OutputMode mode = OutputMode::create);
   ~ProbeSet();
 
   /// Appends one CSV row. Every probed field must be among `fields`.
@@ -36,6 +36,7 @@ class ProbeSet {
   /// Values of the probes for these fields, in declaration order (what record() writes).
   std::vector<double> sample(std::span<const FieldView> fields) const;
   std::size_t size() const;
+  ProbeWriter& writer() { return writer_; }
 
  private:
   struct Located;

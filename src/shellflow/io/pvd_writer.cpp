@@ -11,7 +11,7 @@
 
 namespace shellflow::io {
 
-PvdWriter::PvdWriter(std::filesystem::path dir, std::string basename) {
+PvdWriter::PvdWriter(std::filesystem::path dir, std::string basename, OutputMode mode) {
   if (basename.empty() || basename.find('/') != std::string::npos ||
       basename.find('\\') != std::string::npos) {
     throw_input_error("output name '{}' must be a non-empty file name without '/' (in "
@@ -19,6 +19,28 @@ PvdWriter::PvdWriter(std::filesystem::path dir, std::string basename) {
                       basename, dir.string());
   }
   path_ = std::move(dir) / (std::move(basename) + ".pvd");
+  if (mode == OutputMode::create) write();
+}
+
+void PvdWriter::save(ArchiveWriter& out) const {
+  out.put(static_cast<std::uint64_t>(entries_.size()));
+  for (const auto& e : entries_) {
+    out.put(e.time);
+    out.put(e.file);
+    out.put(e.part);
+  }
+}
+
+void PvdWriter::restore(ArchiveReader& in) {
+  const auto n = in.get<std::uint64_t>();
+  if (n > in.remaining() / 20) throw Error(in.what() + ": damaged collection entries");
+  std::vector<Entry> entries(static_cast<std::size_t>(n));
+  for (auto& e : entries) {
+    e.time = in.get<double>();
+    e.file = in.get_string();
+    e.part = in.get<int>();
+  }
+  entries_ = std::move(entries);
   write();
 }
 

@@ -18,6 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "shellflow/core/archive.h"
+#include "shellflow/io/probe_writer.h"
+
 namespace shellflow::io {
 
 class PvdWriter {
@@ -32,8 +35,13 @@ class PvdWriter {
   /// Starts the collection `<dir>/<basename>.pvd` (creating `dir`), writing it empty;
   /// an existing file of that name is replaced. Throws shellflow::InputError for an empty
   /// basename or one containing a path separator, shellflow::Error when the file cannot be
-  /// written.
-  PvdWriter(std::filesystem::path dir, std::string basename);
+  /// written. With OutputMode::resume nothing is written until restore().
+  PvdWriter(std::filesystem::path dir, std::string basename, OutputMode mode = OutputMode::create);
+
+  /// Checkpoint: the entries. restore() rewrites the `.pvd` with them (the frames written
+  /// after the checkpoint leave the collection; they are added again).
+  void save(ArchiveWriter& out) const;
+  void restore(ArchiveReader& in);
 
   /// Adds dataset `vtu_relative_path` (relative to `dir`, '/' separated) at `time`, as
   /// part `part` of that time step (several parts per step become the blocks of a

@@ -211,6 +211,30 @@ void LaplaceMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
   ++updates_;
 }
 
+void LaplaceMover::save(ArchiveWriter& out) const {
+  out.put(updates_);
+  out.put(t_last_);
+  out.put(t_older_);
+  for (const Component& c : components_) {
+    out.put(c.u);
+    out.put(c.v);
+    out.put(c.v_older);
+  }
+}
+
+void LaplaceMover::restore(ArchiveReader& in) {
+  updates_ = in.get<int>();
+  t_last_ = in.get<double>();
+  t_older_ = in.get<double>();
+  for (Component& c : components_) {
+    for (Eigen::VectorXd* v : {&c.u, &c.v, &c.v_older}) {
+      Eigen::VectorXd stored = in.get_eigen();
+      in.expect_size("the Laplace mover's warm start", std::size_t(stored.size()), std::size_t(v->size()));
+      *v = std::move(stored);
+    }
+  }
+}
+
 std::size_t LaplaceMover::memory_bytes() const {
   std::size_t bytes = 0;
   for (const Component& c : components_) {

@@ -41,6 +41,9 @@ class LaplaceMover final : public FluidMeshMover {
   /// Reduced stiffness matrices, interface coupling blocks and preconditioners (all three
   /// components), plus the node lists and solution/warm-start vectors.
   std::size_t memory_bytes() const override;
+  /// The warm starts of the next solves (last solutions, velocity extrapolation, their times).
+  void save(ArchiveWriter& out) const override;
+  void restore(ArchiveReader& in) override;
 
   /// Nodes whose component c is solved for (neither interface, fixed, nor on a sliding plane
   /// with normal +-e_c), in the order of the unknowns.

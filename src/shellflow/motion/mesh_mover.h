@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "shellflow/core/archive.h"
 #include "shellflow/mesh/mesh.h"
 #include "shellflow/motion/boundary_motion.h"
 #include "shellflow/motion/space_mesh.h"
@@ -30,6 +31,10 @@ class FluidMeshMover {
   virtual std::string name() const = 0;
   /// Bytes of the mover's own data (weights, locations, matrices).
   virtual std::size_t memory_bytes() const = 0;
+  /// Checkpoint of what the next update() reads besides its time (core/archive.h); the
+  /// algebraic movers keep nothing between updates.
+  virtual void save(ArchiveWriter&) const {}
+  virtual void restore(ArchiveReader&) {}
 };
 
 /// Node sets of a fluid mesh's boundary groups (interface > fixed > sliding precedence), with

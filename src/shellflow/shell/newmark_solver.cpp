@@ -126,6 +126,46 @@ void NewmarkSolver::restore(const NewmarkState& state) {
   refresh_matrix_ = false;
 }
 
+void NewmarkSolver::save(ArchiveWriter& out) const {
+  out.put(u_);
+  out.put(v_);
+  out.put(a_);
+  out.put(time_);
+  out.put(matrix_factorizations_);
+  const bool kept = options_.newton.modified && matrix_factorized_;
+  out.put(kept);
+  if (!kept) return;
+  out.put(kept_matrix_values_);
+  out.put(factorized_mass_coefficient_);
+  out.put(refresh_matrix_);
+  out.put(last_residual_);
+}
+
+void NewmarkSolver::restore(ArchiveReader& in) {
+  NewmarkState s;
+  s.u = in.get_eigen();
+  s.v = in.get_eigen();
+  s.a = in.get_eigen();
+  s.time = in.get<double>();
+  const auto n = static_cast<std::size_t>(model_.num_dofs());
+  in.expect_size("the shell's displacement vector", std::size_t(s.u.size()), n);
+  in.expect_size("the shell's velocity vector", std::size_t(s.v.size()), n);
+  in.expect_size("the shell's acceleration vector", std::size_t(s.a.size()), n);
+  restore(s);
+  matrix_factorizations_ = in.get<int>();
+  if (!in.get<bool>()) return;
+  std::vector<double> values = in.get_vector<double>();
+  in.expect_size("the shell's iteration matrix", values.size(), std::size_t(K_.nonZeros()));
+  factorized_mass_coefficient_ = in.get<double>();
+  const bool refresh = in.get<bool>();
+  last_residual_ = in.get<double>();
+  std::copy(values.begin(), values.end(), K_.valuePtr());
+  kept_matrix_values_ = std::move(values);
+  matrix_factorized_ = linear_solver_.factorize(K_, model_.symmetric_tangent() && !has_linear_load());
+  if (!matrix_factorized_) throw Error(in.what() + ": the shell's kept iteration matrix cannot be factorised");
+  refresh_matrix_ = refresh;
+}
+
 Vec3 NewmarkSolver::linear_momentum() const {
   const Eigen::VectorXd Mv = nodal_mass_ * v_;
   Vec3 p = Vec3::Zero();
@@ -194,6 +234,8 @@ bool NewmarkSolver::factorize_iteration_matrix(double tangent_weight, double mas
     for (Eigen::Index i = 0; i < K_.nonZeros(); ++i) h[i] += velocity_coefficient * B[i];
   }
   ++matrix_factorizations_;
+  // Factorising changes K_ in place (local frames, supports eliminated): keep H for a checkpoint.
+  if (options_.newton.modified) kept_matrix_values_.assign(h, h + K_.nonZeros());
   matrix_factorized_ = linear_solver_.factorize(K_, model_.symmetric_tangent() && !has_linear_load());
   factorized_mass_coefficient_ = mass_coefficient;
   refresh_matrix_ = false;

@@ -5,6 +5,7 @@
 // implicit midpoint rule, which also conserves angular momentum (see TimeScheme).
 #include <functional>
 
+#include "shellflow/core/archive.h"
 #include "shellflow/shell/static_solver.h"
 
 namespace shellflow::shell {
@@ -89,6 +90,14 @@ class NewmarkSolver {
   /// Throws InputError for vectors of the wrong size.
   void restore(const NewmarkState& state);
 
+  /// Checkpoint (core/archive.h): the state and, under modified Newton, the kept iteration
+  /// matrix (its values before the supports were eliminated, its mass coefficient and
+  /// whether a refresh is due), so that the steps after restore() use the same matrix as the
+  /// uninterrupted run and repeat it bit for bit. restore() factorises the kept matrix again.
+  /// Throws Error for a checkpoint of another model (sizes).
+  void save(ArchiveWriter& out) const;
+  void restore(ArchiveReader& in);
+
   double time() const { return time_; }
   const Eigen::VectorXd& displacement() const { return u_; }
   const Eigen::VectorXd& velocity() const { return v_; }
@@ -149,6 +158,7 @@ class NewmarkSolver {
   double factorized_mass_coefficient_ = 0.0;
   double last_residual_ = 0.0;
   int matrix_factorizations_ = 0;
+  std::vector<double> kept_matrix_values_;  ///< modified Newton: H before its factorisation (checkpoints)
   std::vector<char> inertial_fixed_;  ///< constrained dofs plus every `a` (no inertia)
   const SparseMatrix* linear_stiffness_ = nullptr;  ///< A of set_linear_load
   const SparseMatrix* linear_damping_ = nullptr;    ///< B of set_linear_load

@@ -1,0 +1,222 @@
+#include "run_control.h"
+
+#include <omp.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cstring>
+#include <set>
+
+#include "shellflow/core/error.h"
+#include "output_dir.h"
+#include "shellflow/core/version.h"
+
+namespace shellflow::app {
+namespace fs = std::filesystem;
+namespace {
+
+volatile std::sig_atomic_t g_stop_signal = 0;
+
+extern "C" void on_stop_signal(int sig) {
+  if (g_stop_signal != 0) {  // the second one: stop now
+    std::signal(sig, SIG_DFL);
+    std::raise(sig);
+    return;
+  }
+  g_stop_signal = sig;
+  constexpr char message[] =
+      "\nshellflow: stopping after the current step with a checkpoint (signal again to stop at once)\n";
+  [[maybe_unused]] const auto n = ::write(STDERR_FILENO, message, sizeof(message) - 1);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The step of `<mesh>_NNNNNN.vtu`, or -1.
+long frame_step(const std::string& name) {
+  for (const std::string_view mesh : io::kMeshKeys) {
+    if (name.size() != mesh.size() + 11 || !name.starts_with(mesh) || name[mesh.size()] != '_' ||
+        !name.ends_with(".vtu"))
+      continue;
+    long step = 0;
+    for (std::size_t i = mesh.size() + 1; i < mesh.size() + 7; ++i) {
+      if (!std::isdigit(static_cast<unsigned char>(name[i]))) return -1;
+      step = 10 * step + (name[i] - '0');
+    }
+    return step;
+  }
+  return -1;
+}
+
+}  // namespace
+
+std::chrono::steady_clock::time_point process_start() {
+  static const auto start = std::chrono::steady_clock::now();
+  return start;
+}
+
+io::CheckpointHeader current_header(const io::Case& c, std::vector<io::SectionDigest> digests) {
+  io::CheckpointHeader h;
+  h.program_version = shellflow::version;
+  h.build = io::executable_build_id();
+  h.case_name = c.name;
+  h.threads = omp_get_max_threads();
+  h.digests = std::move(digests);
+  return h;
+}
+
+io::Checkpoint load_restart(const fs::path& path, const io::Case& c) {
+  io::Checkpoint checkpoint = io::read_checkpoint(io::find_checkpoint(path));
+  // The meshes are compared once they are made (RunControl): here the case file only.
+  std::vector<io::SectionDigest> digests = c.digests;
+  for (const auto& d : checkpoint.header.digests)
+    if (d.name.starts_with("mesh ")) digests.push_back(d);
+  if (const std::string why = io::checkpoint_mismatch(checkpoint, current_header(c, digests)); !why.empty())
+    throw Error(why);
+  return checkpoint;
+}
+
+RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options,
+                       std::optional<io::Checkpoint> restart, std::vector<io::SectionDigest> digests)
+    : case_(c), outdir_(std::move(outdir)), options_(std::move(options)), restart_(std::move(restart)),
+      digests_(std::move(digests)), every_(c.output.checkpoint_every), start_(process_start()) {
+  if (restart_) {
+    const io::CheckpointHeader now = current_header(c, digests_);
+    if (const std::string why = io::checkpoint_mismatch(*restart_, now); !why.empty()) throw Error(why);
+    const io::CheckpointHeader& then = restart_->header;
+    if (then.build != now.build)
+      spdlog::warn("{}: written by another build of shellflow {}; the continuation may differ from an "
+                   "uninterrupted run in the last bits",
+                   restart_->file.string(), then.program_version);
+    if (then.threads != now.threads)
+      spdlog::warn("{}: written with {} OpenMP thread(s), this run has {}; the flow may differ from an "
+                   "uninterrupted run in the last bits (set OMP_NUM_THREADS={})",
+                   restart_->file.string(), then.threads, now.threads, then.threads);
+    spdlog::info("restart from {}: step {}, t = {:.6g} s", restart_->file.string(), then.step, then.time);
+  }
+}
+
+void RunControl::arm_signals() {
+  if (armed_) return;
+  g_stop_signal = 0;
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, &old_int_);
+  sigaction(SIGTERM, &action, &old_term_);
+  armed_ = true;
+}
+
+RunControl::~RunControl() {
+  if (!armed_) return;
+  sigaction(SIGINT, &old_int_, nullptr);
+  sigaction(SIGTERM, &old_term_, nullptr);
+}
+
+void RunControl::not_time_stepping(std::string_view what) const {
+  if (restart_)
+    throw Error(fmt::format("{}: {} is not checkpointed (it does not step in time); run it without --restart",
+                            restart_->file.string(), what));
+  if (options_.stop_after || options_.stop_at_wall || every_ > 0)
+    spdlog::warn("{} is not checkpointed: --stop-after, --stop-at-wall and output.checkpoint_every are ignored",
+                 what);
+}
+
+void RunControl::set_state(std::string kind, std::function<void(ArchiveWriter&)> save,
+                           std::function<void(ArchiveReader&)> restore) {
+  kind_ = std::move(kind);
+  save_ = std::move(save);
+  restore_ = std::move(restore);
+}
+
+void RunControl::restore() {
+  if (!restart_) return;
+  ArchiveReader in(restart_->payload, restart_->file.string());
+  const std::string kind = in.get_string();
+  if (kind != kind_)
+    throw Error(fmt::format("{}: a checkpoint of a {} run, this case is a {} run", in.what(), kind, kind_));
+  const long step = in.get<long>();
+  if (step != restart_->header.step) throw Error(in.what() + ": damaged (two different steps)");
+  const auto outputs = in.get<std::uint64_t>();
+  in.expect_size("the output files", outputs, outputs_.size());
+  std::set<std::string> listed;
+  for (const auto& w : outputs_) {
+    std::visit([&](auto* writer) { writer->restore(in); }, w);
+    if (const auto* pvd = std::get_if<io::PvdWriter*>(&w))
+      for (const auto& e : (*pvd)->entries()) listed.insert(e.file);
+  }
+  if (restore_) restore_(in);
+  in.expect_end();
+  // Frames after the checkpoint (a killed run's, or the last frame of a stopped run that is
+  // not in the series) are written again or were never part of the uninterrupted run.
+  // The .tmp files of writes a kill interrupted go too.
+  std::error_code ec;
+  std::vector<fs::path> later;
+  for (fs::directory_iterator it(outdir_, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (it->symlink_status(ec).type() != fs::file_type::regular) continue;
+    const long s = frame_step(name);
+    if ((s >= 0 && (s > step || (s == step && !listed.contains(name)))) ||
+        (name.ends_with(".tmp") && is_run_output_name(name)))
+      later.push_back(it->path());
+  }
+  std::size_t removed = 0;
+  for (const fs::path& p : later) removed += fs::remove(p, ec) ? 1 : 0;
+  if (removed > 0) spdlog::info("restart: removed {} file(s) written after the checkpoint", removed);
+}
+
+bool RunControl::stop_due(long steps_done) const {
+  if (g_stop_signal != 0) return true;
+  if (options_.stop_after && steps_done >= *options_.stop_after) return true;
+  return options_.stop_at_wall && seconds_since(start_) >= *options_.stop_at_wall;
+}
+
+void RunControl::write_checkpoint(long step, double time) {
+  const auto t0 = std::chrono::steady_clock::now();
+  ArchiveWriter out;
+  out.put(kind_);
+  out.put(step);
+  out.put(static_cast<std::uint64_t>(outputs_.size()));
+  for (const auto& w : outputs_) std::visit([&](const auto* writer) { writer->save(out); }, w);
+  if (save_) save_(out);
+  io::CheckpointHeader header = current_header(case_, digests_);
+  header.step = step;
+  header.time = time;
+  const std::uint64_t bytes = io::write_checkpoint(outdir_, header, out.bytes());
+  const double s = seconds_since(t0);
+  ++written_;
+  seconds_ += s;
+  largest_seconds_ = std::max(largest_seconds_, s);
+  bytes_ = bytes;
+  last_file_ = io::checkpoint_path(outdir_, step);
+  spdlog::debug("checkpoint {} ({:.1f} MB, {:.1f} ms)", last_file_->string(), double(bytes) / 1e6, 1e3 * s);
+}
+
+void RunControl::mark_stopped(long step, double time) {
+  stopped_step_ = step;
+  stopped_time_ = time;
+}
+
+std::string RunControl::stopped_message(const fs::path& case_file) const {
+  const char* why = g_stop_signal == SIGINT    ? "on SIGINT"
+                    : g_stop_signal == SIGTERM ? "on SIGTERM"
+                    : options_.stop_after && *stopped_step_ - first_step() + 1 >= *options_.stop_after
+                        ? "after --stop-after steps"
+                        : "at --stop-at-wall";
+  return fmt::format("stopped {} at step {} (t = {:.6g} s) with checkpoint {}; continue with: shellflow run {} "
+                     "--restart {}",
+                     why, *stopped_step_, stopped_time_, last_file_ ? last_file_->string() : "(none)",
+                     case_file.string(), outdir_.string());
+}
+
+void RunControl::log_summary(double run_seconds) const {
+  if (written_ == 0) return;
+  spdlog::info("checkpoints: {} written ({:.1f} MB each, {:.1f} ms mean, {:.1f} ms at most; {:.2f} % of the run)",
+               written_, double(bytes_) / 1e6, 1e3 * seconds_ / written_, 1e3 * largest_seconds_,
+               run_seconds > 0 ? 100.0 * seconds_ / run_seconds : 0.0);
+}
+
+}  // namespace shellflow::app

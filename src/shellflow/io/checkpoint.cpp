@@ -1,0 +1,286 @@
+#include "shellflow/io/checkpoint.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <optional>
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include "shellflow/core/error.h"
+#include "shellflow/mesh/mesh.h"
+
+namespace shellflow::io {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr std::string_view kMagic = "shellflow checkpoint\n";
+constexpr std::size_t kPrefix = kMagic.size() + 4 + 3 * 8;
+
+/// The step of a checkpoint file name, or nullopt.
+std::optional<long> checkpoint_step(std::string_view name) {
+  constexpr std::string_view head = "checkpoint_", tail = ".ckpt";
+  if (!name.starts_with(head) || !name.ends_with(tail)) return std::nullopt;
+  const std::string_view digits = name.substr(head.size(), name.size() - head.size() - tail.size());
+  if (digits.size() < 6 || digits.size() > 18) return std::nullopt;
+  long step = 0;
+  for (const char c : digits) {
+    if (c < '0' || c > '9') return std::nullopt;
+    step = 10 * step + (c - '0');
+  }
+  return step;
+}
+
+/// The complete checkpoints of `dir` by step.
+std::map<long, fs::path> checkpoints_in(const fs::path& dir) {
+  std::map<long, fs::path> found;
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->symlink_status(ec).type() != fs::file_type::regular) continue;
+    if (const auto step = checkpoint_step(it->path().filename().string())) found[*step] = it->path();
+  }
+  return found;
+}
+
+void put_header(ArchiveWriter& out, const CheckpointHeader& h) {
+  out.put(h.program_version);
+  out.put(h.build);
+  out.put(h.case_name);
+  out.put(h.step);
+  out.put(h.time);
+  out.put(h.threads);
+  out.put(static_cast<std::uint64_t>(h.digests.size()));
+  for (const auto& d : h.digests) {
+    out.put(d.name);
+    out.put(d.digest);
+  }
+}
+
+CheckpointHeader get_header(ArchiveReader& in) {
+  CheckpointHeader h;
+  h.program_version = in.get_string();
+  h.build = in.get<std::uint64_t>();
+  h.case_name = in.get_string();
+  h.step = in.get<long>();
+  h.time = in.get<double>();
+  h.threads = in.get<int>();
+  const auto n = in.get<std::uint64_t>();
+  if (n > in.remaining() / 16) throw Error(in.what() + ": damaged header (digest count)");
+  for (std::uint64_t k = 0; k < n; ++k) {
+    SectionDigest d;
+    d.name = in.get_string();
+    d.digest = in.get<std::uint64_t>();
+    h.digests.push_back(std::move(d));
+  }
+  in.expect_end();
+  return h;
+}
+
+/// write(2) all of `data`; false on an error (errno set).
+bool write_all(int fd, std::string_view data) {
+  while (!data.empty()) {
+    const ssize_t n = ::write(fd, data.data(), data.size());
+    if (n < 0) {
+      if (errno == EINTR) continue;
+      return false;
+    }
+    data.remove_prefix(static_cast<std::size_t>(n));
+  }
+  return true;
+}
+
+}  // namespace
+
+std::vector<SectionDigest> case_digests(const YAML::Node& root) {
+  std::vector<SectionDigest> out;
+  if (!root.IsMap()) return out;
+  for (const auto& entry : root) {
+    const std::string key = entry.first.as<std::string>();
+    if (key == "study") continue;
+    YAML::Node section = YAML::Clone(entry.second);
+    if (section.IsMap() && key == "output") {
+      section.remove("directory");
+      section.remove("checkpoint_every");
+    }
+    if (section.IsMap() && key == "time") section.remove("end");
+    YAML::Emitter emitter;
+    emitter << section;
+    out.push_back({key, checksum64(std::string_view(emitter.c_str(), emitter.size()))});
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  return out;
+}
+
+SectionDigest mesh_digest(const mesh::Mesh& m) {
+  std::uint64_t h = checksum64(std::as_bytes(std::span(m.nodes.data(), m.nodes.size())));
+  h = checksum64(std::as_bytes(std::span(m.cells.connectivity)), h);
+  h = checksum64(std::as_bytes(std::span(&m.cells.type, 1)), h);
+  for (const auto& g : m.group_names()) h = checksum64(std::as_bytes(std::span(g.data(), g.size())), h);
+  return {"mesh " + m.name, h};
+}
+
+fs::path checkpoint_path(const fs::path& dir, long step) { return dir / fmt::format("checkpoint_{:06}.ckpt", step); }
+
+bool is_checkpoint_name(std::string_view name) {
+  if (name.ends_with(".tmp")) name.remove_suffix(4);
+  return checkpoint_step(name).has_value();
+}
+
+std::uint64_t write_checkpoint(const fs::path& dir, const CheckpointHeader& header, std::string_view payload) {
+  ArchiveWriter head;
+  put_header(head, header);
+  const std::string& h = head.bytes();
+  std::uint64_t sum = checksum64(std::as_bytes(std::span(h.data(), h.size())));
+  sum = checksum64(std::as_bytes(std::span(payload.data(), payload.size())), sum);
+  ArchiveWriter prefix;
+  const std::uint32_t format = kCheckpointFormat;
+  prefix.put(format);
+  prefix.put(static_cast<std::uint64_t>(h.size()));
+  prefix.put(static_cast<std::uint64_t>(payload.size()));
+  prefix.put(sum);
+
+  const fs::path file = checkpoint_path(dir, header.step);
+  const fs::path tmp = fs::path(file.string() + ".tmp");
+  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) throw Error(fmt::format("{}: cannot write the checkpoint ({})", tmp.string(), std::strerror(errno)));
+  const bool ok = write_all(fd, kMagic) && write_all(fd, prefix.bytes()) && write_all(fd, h) &&
+                  write_all(fd, payload) && ::fsync(fd) == 0;
+  const int saved_errno = errno;
+  ::close(fd);
+  std::error_code ec;
+  if (!ok) {
+    fs::remove(tmp, ec);
+    throw Error(fmt::format("{}: cannot write the checkpoint ({}); the previous checkpoints are kept",
+                            tmp.string(), std::strerror(saved_errno)));
+  }
+  fs::rename(tmp, file, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error(fmt::format("{}: cannot rename the checkpoint ({})", file.string(), ec.message()));
+  }
+  // The new one is complete: keep it and the newest other one; drop the .tmp a killed
+  // write left.
+  std::vector<fs::path> stale;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.ends_with(".tmp") && is_checkpoint_name(name)) stale.push_back(it->path());
+  }
+  for (const fs::path& p : stale) fs::remove(p, ec);
+  auto all = checkpoints_in(dir);
+  std::size_t keep = 2;
+  for (auto it = all.rbegin(); it != all.rend(); ++it) {
+    if (keep > 0) {
+      --keep;
+      continue;
+    }
+    fs::remove(it->second, ec);
+  }
+  return kMagic.size() + prefix.bytes().size() + h.size() + payload.size();
+}
+
+Checkpoint read_checkpoint(const fs::path& file) {
+  std::error_code ec;
+  const auto status = fs::status(file, ec);
+  if (!fs::exists(status))
+    throw Error(fmt::format("{}: no such checkpoint; give an output directory or one of its "
+                            "checkpoint_NNNNNN.ckpt files",
+                            file.string()));
+  if (!fs::is_regular_file(status)) throw Error(fmt::format("{}: not a checkpoint file", file.string()));
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (!in.eof() && in.fail()) throw Error(fmt::format("{}: cannot read the checkpoint", file.string()));
+  const std::string name = file.string();
+  if (bytes.size() < kMagic.size() || std::string_view(bytes).substr(0, kMagic.size()) != kMagic)
+    throw Error(fmt::format("{}: not a shellflow checkpoint (no 'shellflow checkpoint' signature)", name));
+  if (bytes.size() < kPrefix)
+    throw Error(fmt::format("{}: truncated ({} bytes, not even the header); restart from an earlier checkpoint",
+                            name, bytes.size()));
+  ArchiveReader prefix(std::string_view(bytes).substr(kMagic.size(), kPrefix - kMagic.size()), name);
+  const auto format = prefix.get<std::uint32_t>();
+  if (format != kCheckpointFormat)
+    throw Error(fmt::format("{}: checkpoint format {}, this shellflow reads format {}; continue it with the "
+                            "shellflow that wrote it",
+                            name, format, kCheckpointFormat));
+  const auto header_bytes = prefix.get<std::uint64_t>(), payload_bytes = prefix.get<std::uint64_t>();
+  const auto sum = prefix.get<std::uint64_t>();
+  const std::uint64_t body = bytes.size() - kPrefix;
+  if (header_bytes > body || payload_bytes > body - header_bytes)
+    throw Error(fmt::format("{}: truncated ({} bytes of {}); restart from an earlier checkpoint", name,
+                            bytes.size(), kPrefix + header_bytes + payload_bytes));
+  if (header_bytes + payload_bytes != body)
+    throw Error(fmt::format("{}: {} bytes after the end of the checkpoint; the file is damaged", name,
+                            body - header_bytes - payload_bytes));
+  const std::string_view rest = std::string_view(bytes).substr(kPrefix);
+  const std::string_view head = rest.substr(0, header_bytes), tail = rest.substr(header_bytes);
+  if (checksum64(std::as_bytes(std::span(tail.data(), tail.size())),
+                 checksum64(std::as_bytes(std::span(head.data(), head.size())))) != sum)
+    throw Error(fmt::format("{}: checksum mismatch, the file is damaged; restart from an earlier checkpoint",
+                            name));
+  Checkpoint c;
+  c.file = file;
+  ArchiveReader header(rest.substr(0, header_bytes), name);
+  c.header = get_header(header);
+  c.payload = std::string(rest.substr(header_bytes));
+  return c;
+}
+
+fs::path find_checkpoint(const fs::path& path) {
+  std::error_code ec;
+  if (!fs::is_directory(path, ec)) return path;  // read_checkpoint says what is wrong with it
+  const auto all = checkpoints_in(path);
+  if (all.empty())
+    throw Error(fmt::format("{}: no checkpoint_NNNNNN.ckpt in this directory; a run writes them with "
+                            "output.checkpoint_every, --stop-after, --stop-at-wall or on Ctrl-C",
+                            path.string()));
+  return all.rbegin()->second;
+}
+
+std::uint64_t executable_build_id() {
+  static const std::uint64_t id = [] {
+    std::ifstream in("/proc/self/exe", std::ios::binary);
+    if (!in) return std::uint64_t{0};
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    return checksum64(std::as_bytes(std::span(bytes.data(), bytes.size())));
+  }();
+  return id;
+}
+
+std::string checkpoint_mismatch(const Checkpoint& c, const CheckpointHeader& now) {
+  const std::string name = c.file.string();
+  const CheckpointHeader& then = c.header;
+  if (then.program_version != now.program_version)
+    return fmt::format("{}: written by shellflow {}, this is shellflow {}; continue it with the shellflow that "
+                       "wrote it",
+                       name, then.program_version, now.program_version);
+  if (then.case_name != now.case_name)
+    return fmt::format("{}: a checkpoint of case '{}', not of '{}'", name, then.case_name, now.case_name);
+  std::vector<std::string> changed;
+  for (const auto& d : then.digests) {
+    const auto it = std::find_if(now.digests.begin(), now.digests.end(), [&](const auto& e) { return e.name == d.name; });
+    if (it == now.digests.end())
+      changed.push_back(d.name + " (removed)");
+    else if (it->digest != d.digest)
+      changed.push_back(d.name);
+  }
+  for (const auto& d : now.digests)
+    if (std::none_of(then.digests.begin(), then.digests.end(), [&](const auto& e) { return e.name == d.name; }))
+      changed.push_back(d.name + " (added)");
+  if (!changed.empty()) {
+    std::string list;
+    for (const auto& s : changed) list += (list.empty() ? "" : ", ") + s;
+    return fmt::format("{}: the case changed since the checkpoint was written (sections: {}); restore them, or "
+                       "start a new run without --restart (time.end, output.checkpoint_every and study may "
+                       "change)",
+                       name, list);
+  }
+  return {};
+}
+
+}  // namespace shellflow::io
