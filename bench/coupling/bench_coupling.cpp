@@ -6,15 +6,21 @@
 //   BM_FlowStepMoving        one explicit flow step on the moved mesh, paper meshes;
 //   BM_CoupledShellStepEuler one whole shell step of the Euler-coupled run (shell + n_sub
 //                            sub-steps + loads), paper meshes;
+//   BM_CheckpointSave/Write/ReadAndRestore  a checkpoint of the Euler-coupled state, paper
+//                            meshes: into the archive, to disk (fsync), back;
 //   BM_FlutterBasis          the linear flutter analysis' modal basis (24 in-vacuo modes +
 //                            projected piston-theory matrices) of the reference strip;
 //   BM_FlutterSweep50        its sweep of 50 lambda values + the bisection of the boundary.
 // Median of repetitions: --benchmark_repetitions=5 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
+
+#include "shellflow/core/archive.h"
 #include "shellflow/core/version.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
+#include "shellflow/io/checkpoint.h"
 #include "shellflow/setup/coupled_setup.h"
 
 namespace {
@@ -87,6 +93,60 @@ void BM_CoupledShellStepEuler(benchmark::State& state) {
   state.counters["substeps"] = substeps;
 }
 BENCHMARK(BM_CoupledShellStepEuler)->Unit(benchmark::kMillisecond);
+
+// A checkpoint of the default flutter case (docs/restart.md): the coupled state into the
+// archive, the file written (tmp + fsync + rename), read and verified, and restored.
+void BM_CheckpointSave(benchmark::State& state) {
+  System& sys = euler();
+  std::size_t bytes = 0;
+  for (auto _ : state) {
+    ArchiveWriter out;
+    sys.s.driver->save(out);
+    bytes = out.bytes().size();
+    benchmark::DoNotOptimize(out.bytes().data());
+  }
+  state.counters["MB"] = double(bytes) / 1e6;
+}
+BENCHMARK(BM_CheckpointSave)->Unit(benchmark::kMillisecond);
+
+/// A scratch folder (made again by every benchmark, removed at its end).
+std::filesystem::path checkpoint_dir() {
+  const auto dir = std::filesystem::temp_directory_path() / ("shellflow-bench-ckpt-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+void BM_CheckpointWrite(benchmark::State& state) {
+  System& sys = euler();
+  ArchiveWriter out;
+  sys.s.driver->save(out);
+  io::CheckpointHeader header;
+  header.case_name = sys.c.name;
+  long step = 0;
+  for (auto _ : state) {
+    header.step = ++step;
+    io::write_checkpoint(checkpoint_dir(), header, out.bytes());
+  }
+  state.counters["MB"] = double(out.bytes().size()) / 1e6;
+  std::filesystem::remove_all(checkpoint_dir());
+}
+BENCHMARK(BM_CheckpointWrite)->Unit(benchmark::kMillisecond);
+
+void BM_CheckpointReadAndRestore(benchmark::State& state) {
+  System& sys = euler();
+  ArchiveWriter out;
+  sys.s.driver->save(out);
+  io::CheckpointHeader header;
+  header.step = 999999;
+  io::write_checkpoint(checkpoint_dir(), header, out.bytes());
+  for (auto _ : state) {
+    const io::Checkpoint c = io::read_checkpoint(io::checkpoint_path(checkpoint_dir(), 999999));
+    ArchiveReader in(c.payload, "bench");
+    sys.s.driver->restore(in);
+  }
+  std::filesystem::remove_all(checkpoint_dir());
+}
+BENCHMARK(BM_CheckpointReadAndRestore)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
