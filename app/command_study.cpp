@@ -2,7 +2,9 @@
 // by bracketing and refinement (docs/flutter.md). Every point is a `shellflow run` of the
 // same case file with --set overrides, in its own folder, in its own process (up to --jobs
 // at once); the growth rate comes from the run's response.json. A point whose folder holds a
-// finished point.json is not rerun, so an interrupted study continues where it stopped.
+// finished point.json is not rerun, so an interrupted study continues where it stopped; a
+// point whose run stopped with a checkpoint (Ctrl-C, SIGTERM) continues from it
+// (--restart, docs/restart.md).
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -13,6 +15,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <charconv>
 #include <cmath>
 #include <cstring>
@@ -23,6 +26,8 @@
 
 #include "commands.h"
 #include "output_dir.h"
+#include "run_control.h"
+#include "shellflow/io/checkpoint.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
 
@@ -32,6 +37,20 @@ namespace shellflow::app {
 namespace {
 
 namespace fs = std::filesystem;
+
+/// SIGINT/SIGTERM to the study: no new runs; the running ones stop with a checkpoint.
+volatile std::sig_atomic_t g_study_signal = 0;
+extern "C" void on_study_signal(int sig) { g_study_signal = sig; }
+
+/// Whether a point's folder holds a checkpoint to continue from.
+bool has_checkpoint(const fs::path& dir) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.ends_with(".tmp") && io::is_checkpoint_name(name)) return true;
+  }
+  return false;
+}
 
 /// What a point run gave.
 struct Point {
@@ -172,10 +191,17 @@ class PointRunner {
     }
     std::map<pid_t, double> running;
     std::size_t next = 0;
-    while (next < todo.size() || !running.empty()) {
-      while (next < todo.size() && static_cast<int>(running.size()) < jobs_) {
+    bool forwarded = false;
+    while ((next < todo.size() && g_study_signal == 0) || !running.empty()) {
+      while (next < todo.size() && g_study_signal == 0 && static_cast<int>(running.size()) < jobs_) {
         running[spawn(todo[next])] = todo[next];
         ++next;
+      }
+      if (g_study_signal != 0 && !forwarded) {
+        // The runs stop at their next step with a checkpoint (a terminal's Ctrl-C reached
+        // them already; a signal to the study alone is passed on).
+        for (const auto& [child, value] : running) kill(child, SIGTERM);
+        forwarded = true;
       }
       int status = 0;
       const pid_t pid = waitpid(-1, &status, 0);
@@ -192,6 +218,9 @@ class PointRunner {
     return out;
   }
 
+  /// Whether a run stopped with a checkpoint (a signal): the study stops too.
+  bool interrupted() const { return interrupted_; }
+
  private:
   /// What makes a point's run: the case file's text and the run's overrides (not those of
   /// `study.*`, which `run` ignores: a study refined with another tolerance reuses its points).
@@ -205,8 +234,14 @@ class PointRunner {
   pid_t spawn(double value) {
     const fs::path dir = dir_of(value);
     fs::create_directories(dir);
+    // An interrupted run of the same settings continues from its checkpoint.
+    const bool resume = slurp(dir / "settings.txt") == settings(value) && has_checkpoint(dir);
     std::ofstream(dir / "settings.txt", std::ios::binary) << settings(value);
-    std::vector<std::string> words{exe_, "run", common_.case_file.string(), "-o", dir.string(), "--no-plot"};
+    std::vector<std::string> words{exe_, "run", common_.case_file.string(), "--no-plot"};
+    if (resume)
+      words.insert(words.end(), {"--restart", dir.string()});
+    else
+      words.insert(words.end(), {"-o", dir.string()});
     for (const auto& o : run_overrides(c_, common_, value)) words.insert(words.end(), {"--set", o});
     std::vector<char*> argv;
     for (auto& w : words) argv.push_back(w.data());
@@ -221,18 +256,28 @@ class PointRunner {
     const std::string log = (dir / "run.log").string();
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    // A continued run appends to the log of the run it continues.
+    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
+                                     O_WRONLY | O_CREAT | (resume ? O_APPEND : O_TRUNC), 0644);
     posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
     pid_t pid = 0;
     const int rc = posix_spawn(&pid, exe_.c_str(), &actions, nullptr, argv.data(), envp.data());
     posix_spawn_file_actions_destroy(&actions);
     if (rc != 0) throw Error(fmt::format("study: cannot start {} ({})", exe_, std::strerror(rc)));
-    spdlog::info("study: run {} = {:.8g} -> {}", io::to_string(c_.study->parameter), value, dir.string());
+    spdlog::info("study: run {} = {:.8g} -> {}{}", io::to_string(c_.study->parameter), value, dir.string(),
+                 resume ? " (continued from its checkpoint)" : "");
     return pid;
   }
 
   Point finish(double value, int status) {
     const fs::path dir = dir_of(value);
+    if (WIFEXITED(status) && WEXITSTATUS(status) == kStoppedExitCode) {
+      // Stopped with a checkpoint: no point.json, the next study continues it.
+      interrupted_ = true;
+      spdlog::warn("study: {} = {:.8g} stopped with a checkpoint in {}", io::to_string(c_.study->parameter), value,
+                   dir.string());
+      return {.value = value, .ok = false, .message = "interrupted", .dir = dir};
+    }
     const bool ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
     std::string message;
     if (!ok) {
@@ -261,6 +306,7 @@ class PointRunner {
   fs::path root_;
   int jobs_ = 1;
   std::string exe_;
+  bool interrupted_ = false;
 };
 
 /// The first sign change of the growth rate among the finished points, by value.
@@ -307,9 +353,29 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
   spdlog::info("study of '{}': {} in [{:.6g}, {:.6g}], {} points, boundary to {:.3g}, {} job(s) -> {}", c.name, name,
                s.lo, s.hi, s.points, s.tolerance, options.jobs, outdir.string());
   PointRunner runner(c, common, outdir, options.jobs);
+  g_study_signal = 0;
+  struct sigaction action {}, old_int {}, old_term {};
+  action.sa_handler = on_study_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, &old_int);
+  sigaction(SIGTERM, &action, &old_term);
+  struct Restore {
+    struct sigaction &a, &b;
+    ~Restore() {
+      sigaction(SIGINT, &a, nullptr);
+      sigaction(SIGTERM, &b, nullptr);
+    }
+  } restore_signals{old_int, old_term};
+  const auto stopped = [&] {
+    if (!runner.interrupted() && g_study_signal == 0) return false;
+    spdlog::warn("study interrupted: the finished points are kept and the stopped runs have checkpoints; run the "
+                 "same command again to continue");
+    return true;
+  };
   std::vector<double> values;
   for (int i = 0; i < s.points; ++i) values.push_back(s.lo + (s.hi - s.lo) * i / (s.points - 1));
   std::vector<Point> points = runner.run(values);
+  if (stopped()) return kStoppedExitCode;
 
   // Refinement: regula falsi (Illinois) on the bracket, with `jobs` points per round (the
   // secant estimate first, the others splitting the bracket evenly).
@@ -330,6 +396,7 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
     next.erase(std::unique(next.begin(), next.end(), [&](double p, double q) { return std::abs(p - q) < 1e-3 * w; }),
                next.end());
     const auto fresh = runner.run(next);
+    if (stopped()) return kStoppedExitCode;
     points.insert(points.end(), fresh.begin(), fresh.end());
     ++rounds;
     const auto nb = bracket(points);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstring>
+#include <ctime>
 #include <set>
 
 #include "shellflow/core/error.h"
@@ -18,16 +19,25 @@ namespace fs = std::filesystem;
 namespace {
 
 volatile std::sig_atomic_t g_stop_signal = 0;
+timespec g_first_signal{};  // when the first one came (CLOCK_MONOTONIC)
 
 extern "C" void on_stop_signal(int sig) {
-  if (g_stop_signal != 0) {  // the second one: stop now
+  timespec now{};
+  clock_gettime(CLOCK_MONOTONIC, &now);  // async-signal-safe
+  if (g_stop_signal != 0) {
+    // A second one within a second is the same request arriving twice (a terminal's Ctrl-C
+    // reaches a study's runs and the study passes its own on); later: stop now.
+    const double since = double(now.tv_sec - g_first_signal.tv_sec) + 1e-9 * double(now.tv_nsec - g_first_signal.tv_nsec);
+    if (since < 1.0) return;
     std::signal(sig, SIG_DFL);
     std::raise(sig);
     return;
   }
+  g_first_signal = now;
   g_stop_signal = sig;
   constexpr char message[] =
-      "\nshellflow: stopping after the current step with a checkpoint (signal again to stop at once)\n";
+      "\nshellflow: stopping after the current step with a checkpoint (signal again after a second to stop at "
+      "once)\n";
   [[maybe_unused]] const auto n = ::write(STDERR_FILENO, message, sizeof(message) - 1);
 }
 

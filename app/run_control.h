@@ -68,8 +68,9 @@ class RunControl {
   /// the stop and checkpoint options (`what`: "a static analysis").
   void not_time_stepping(std::string_view what) const;
   /// Installs the SIGINT/SIGTERM handlers (the time loop does, when it starts): a first
-  /// signal stops the run at the next step boundary with a checkpoint, a second one ends it
-  /// at once. The destructor puts the previous handlers back.
+  /// signal stops the run at the next step boundary with a checkpoint, a second one more
+  /// than a second later ends it at once (one within a second is the same request twice).
+  /// The destructor puts the previous handlers back.
   void arm_signals();
 
   bool checkpoint_due(long step) const { return every_ > 0 && step % every_ == 0; }

@@ -250,17 +250,44 @@ class RestartSignals(unittest.TestCase):
             assert_readable(self, out)
             self.restart_and_compare(out)
 
-    def test_a_second_signal_ends_the_run_at_once(self):
+    def test_two_signals_leave_a_readable_folder_that_restarts(self):
         out = os.path.join(self.dir, "twice")
         p = self.start(out, "--set", "output.checkpoint_every=1")
         self.wait_for_rows(out, 50)
         p.send_signal(signal.SIGINT)
+        time.sleep(1.2)  # within a second a second signal is taken for the same one
         p.send_signal(signal.SIGINT)
         p.communicate(timeout=120)
         # Either the second signal came in time (killed by it) or the run had already stopped.
         self.assertIn(p.returncode, (-signal.SIGINT, STOPPED))
         assert_readable(self, out)
         self.restart_and_compare(out)
+
+    def test_an_interrupted_study_continues_its_runs_from_their_checkpoints(self):
+        case = os.path.join(CASES, "panel_flutter", "clamped_sliding_piston_monolithic.yaml")
+        args = ["--no-plot", "-j", "2", "--set", "study.range=[1.95, 2.1]", "--set", "study.points=2",
+                "--set", "study.max_refinements=1", "--set", "study.set={time.end: 0.12}"]
+        straight, stopped = os.path.join(self.dir, "study_straight"), os.path.join(self.dir, "study_stopped")
+        r = shellflow("study", case, "-o", straight, *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        p = subprocess.Popen([EXE, "study", case, "-o", stopped, *args], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, start_new_session=True)
+        self.wait_for_rows(os.path.join(stopped, "points", "mach_1.95"), 100)
+        os.killpg(p.pid, signal.SIGINT)  # a terminal's Ctrl-C: the study and its runs
+        _, err = p.communicate(timeout=120)
+        self.assertEqual(p.returncode, STOPPED, err)
+        self.assertIn("stopped with a checkpoint", err)
+        self.assertIn("run the same command again to continue", err)
+        r = shellflow("study", case, "-o", stopped, *args)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("(continued from its checkpoint)", r.stderr)
+        for point in ("mach_1.95", "mach_2.1"):
+            a = outputs(os.path.join(straight, "points", point))
+            b = outputs(os.path.join(stopped, "points", point))
+            for name in ("probes.csv", "coupling.csv", "response.json", "shell.pvd"):
+                self.assertTrue(a[name] == b[name], f"{point}/{name}")
+        with open(os.path.join(straight, "study.csv")) as f, open(os.path.join(stopped, "study.csv")) as g:
+            self.assertEqual(f.read(), g.read())
 
     def test_stop_at_wall(self):
         out = os.path.join(self.dir, "wall")
