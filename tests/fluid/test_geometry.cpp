@@ -1,12 +1,16 @@
 // Per-tetrahedron geometry, lumped mass, RCM renumbering and element colouring.
 #include <gtest/gtest.h>
 
+#include <omp.h>
+
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 #include <random>
 #include <map>
 #include <set>
 
+#include "box_mesh.h"
 #include "fluid_test_util.h"
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/geometry.h"
@@ -133,4 +137,31 @@ TEST(Ordering, NoTwoBlocksOfOneColourShareANode) {
       EXPECT_LE(colours.num_colours(), 40);
     }
   }
+}
+
+// The lumped mass scattered colour by colour in parallel (the moving-mesh step's path) has
+// the bits of the serial sum, on a mesh above the parallel threshold, with 1 and 2 threads.
+TEST(TetGeometry, ColourLoopGivesTheSerialLumpedMassBitForBit) {
+  const auto mesh = shuffled(test_support::box_mesh({18, 18, 18}, Vec3(1, 1, 1), [](const Vec3&) { return std::string(); }), 7);
+  ASSERT_GT(mesh.num_cells(), parallel_threshold);
+  const CellColouring colours =
+      colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), default_block_size(mesh.num_cells(), 2));
+  std::vector<Index> tets;
+  for (const Index c : colours.order) {
+    const auto cell = mesh.cells.element(c);
+    tets.insert(tets.end(), cell.begin(), cell.end());
+  }
+  TetGeometry serial;
+  compute_geometry(mesh.nodes, tets, serial);
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    TetGeometry parallel;
+    compute_geometry(mesh.nodes, ElementLoop{tets, colours.block_offsets, colours.colour_offsets}, parallel);
+    ASSERT_EQ(parallel.lumped_mass.size(), serial.lumped_mass.size());
+    EXPECT_EQ(0, std::memcmp(parallel.lumped_mass.data(), serial.lumped_mass.data(),
+                             serial.lumped_mass.size() * sizeof(double)))
+        << threads << " thread(s)";
+    EXPECT_EQ(parallel.volume, serial.volume);
+  }
+  omp_set_num_threads(omp_get_num_procs());
 }

@@ -1,6 +1,7 @@
 #include "shellflow/fluid/fluid_model.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -88,7 +89,7 @@ void FluidModel::restore(const FluidSnapshot& s) {
     throw InputError(fmt::format("fluid snapshot with {} states, {} positions and {} velocities "
                                  "for mesh '{}' of {} nodes",
                                  s.U.size(), s.x.size(), s.w.size(), mesh_.name, nn));
-  compute_geometry(s.x, tets_, next_geometry_);  // throws before anything changes
+  compute_geometry(s.x, loop(), next_geometry_);  // throws before anything changes
   boundaries_.restore_wall_velocities(s.wall_velocity);
   std::swap(geometry_, next_geometry_);
   state_ = s.U;
@@ -196,6 +197,13 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     throw InputError(fmt::format("fluid mesh motion: {} positions and {} velocities for {} "
                                  "nodes", x_next.size(), w.size(), nn));
   const bool moves = x_next.data() != x_.data();
+  using Clock = std::chrono::steady_clock;
+  auto clock = Clock::now();
+  const auto lap = [&](double& part) {
+    const auto now = Clock::now();
+    part += std::chrono::duration<double>(now - clock).count();
+    clock = now;
+  };
   // Mesh velocity of the step (a member: no allocation per step once sized).
   w_next_.resize(std::size_t(nn));
   auto& w_step = w_next_;
@@ -207,7 +215,9 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     w_step[i] = v;
     mesh_moves = mesh_moves || v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
   }
+  lap(timings_.mesh_velocity);
   update_viscosity();
+  lap(timings_.viscosity);
   ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction,
                        mesh_moves, {}, {}};
   if (local) {
@@ -223,6 +233,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     add_wall_work(options_.gas, dt, p.nodal_dt, tets_, x_, geometry_, state_,
                   boundaries_.adiabatic_wall_faces(), residual_);
   }
+  lap(timings_.element_pass);
   const auto& m = geometry_.lumped_mass;
   if (options_.consistent_mass_iterations > 0) {
     increment_.resize(nn);
@@ -251,12 +262,16 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     }
   }
 
+  lap(timings_.update);
   const double t_next = time_ + dt;
   if (moves) {
-    compute_geometry(x_next, tets_, next_geometry_);  // throws before anything changes
+    compute_geometry(x_next, loop(), next_geometry_);  // throws before anything changes
+    lap(timings_.geometry);
     boundaries_.update_normals(x_next);
+    lap(timings_.normals);
   }
   boundaries_.apply(options_.gas, t_next, x_next, w_step, next_state_);
+  lap(timings_.boundary);
   try {
     check_positivity(next_state_, t_next);
   } catch (...) {
@@ -291,6 +306,8 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   time_ = t_next;
   ++steps_;
   viscosity_valid_ = false;
+  lap(timings_.checks);
+  ++timings_.steps;
 }
 
 void FluidModel::check_positivity(const FluidState& u, double t) const {

@@ -27,6 +27,23 @@
 
 namespace shellflow::fluid {
 
+/// Wall time of the parts of the explicit steps so far (FluidModel::timings), in seconds:
+/// where a step's time goes, for the benchmarks and the run log.
+struct StepTimings {
+  double mesh_velocity = 0.0;  ///< w of the step (and whether the mesh moves)
+  double viscosity = 0.0;      ///< artificial viscosity of the state (shock capturing)
+  double element_pass = 0.0;   ///< the residual: Taylor–Galerkin + ALE terms, natural boundary term, viscous terms
+  double update = 0.0;         ///< U + M^-1 r (or the consistent-mass iterations)
+  double geometry = 0.0;       ///< volumes, gradients, sizes and lumped mass of the moved mesh
+  double normals = 0.0;        ///< boundary face areas and wall normals of the moved mesh
+  double boundary = 0.0;       ///< the boundary conditions
+  double checks = 0.0;         ///< positivity check and the density-rate monitor
+  long steps = 0;
+  double total() const {
+    return mesh_velocity + viscosity + element_pass + update + geometry + normals + boundary + checks;
+  }
+};
+
 struct FluidOptions {
   IdealGas gas;  ///< gas.viscosity set: Navier–Stokes (viscous pass, no-slip walls allowed)
   double q_dif = 0.0;        ///< artificial-viscosity coefficient (paper eq. 28), 0 = off
@@ -152,6 +169,9 @@ class FluidModel {
   /// Artificial viscosity nu (m^2/s, paper eq. 28) of the current state at the nodes: the
   /// volume-weighted mean of the adjacent elements' values (for output).
   std::vector<double> nodal_artificial_viscosity();
+  /// Where the steps' time went (every step; reset_timings() starts again).
+  const StepTimings& timings() const { return timings_; }
+  void reset_timings() { timings_ = {}; }
   /// Bytes held by the model's arrays (mesh copy, geometry, states, work arrays).
   std::size_t memory_bytes() const;
   /// Total mass sum_a M_a rho_a (diagnostic; not exactly conserved on deforming meshes).
@@ -182,6 +202,7 @@ class FluidModel {
   std::vector<double> element_dt_, nodal_dt_;
   std::vector<double> rate_sums_;  // partial sums of the density-rate monitor
   double density_rate_ = 0.0;
+  StepTimings timings_;
   bool viscosity_valid_ = false;
   double time_ = 0.0;
   long steps_ = 0;

@@ -10,8 +10,10 @@
 
 namespace shellflow::fluid {
 
-void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets,
-                      TetGeometry& g) {
+namespace {
+
+/// Volumes, gradients and sizes; the lumped mass is left to the caller.
+void element_geometry(std::span<const Vec3> x, std::span<const Index> tets, TetGeometry& g) {
   const auto ne = static_cast<Index>(tets.size() / 4);
   g.volume.resize(static_cast<std::size_t>(ne));
   g.grad.resize(static_cast<std::size_t>(ne));
@@ -57,12 +59,28 @@ void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets,
         "inverted it; reduce the time step or the mesh deformation",
         first_bad, n[0], n[1], n[2], n[3], g.volume[static_cast<std::size_t>(first_bad)]));
   }
+}
+
+}  // namespace
+
+void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets, TetGeometry& g) {
+  element_geometry(x, tets, g);
+  const auto ne = static_cast<Index>(tets.size() / 4);
   for (Index e = 0; e < ne; ++e) {
     const double quarter = 0.25 * g.volume[static_cast<std::size_t>(e)];
     for (int a = 0; a < 4; ++a)
       g.lumped_mass[static_cast<std::size_t>(tets[4 * static_cast<std::size_t>(e) + a])] +=
           quarter;
   }
+}
+
+void compute_geometry(std::span<const Vec3> x, const ElementLoop& loop, TetGeometry& g) {
+  element_geometry(x, loop.tets, g);
+  for_each_element(loop, [&](Index e) {
+    const auto ue = static_cast<std::size_t>(e);
+    const double quarter = 0.25 * g.volume[ue];
+    for (int a = 0; a < 4; ++a) g.lumped_mass[static_cast<std::size_t>(loop.tets[4 * ue + std::size_t(a)])] += quarter;
+  });
 }
 
 }  // namespace shellflow::fluid

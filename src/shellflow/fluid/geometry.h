@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "shellflow/core/types.h"
+#include "shellflow/fluid/element_loop.h"
 
 namespace shellflow::fluid {
 
@@ -23,5 +24,9 @@ struct TetGeometry {
 /// (inverted or degenerate element after a mesh update).
 void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets,
                       TetGeometry& geometry);
+/// The same for the elements of a colour-ordered loop (`loop.tets`): the lumped mass is
+/// scattered colour by colour in parallel, with the same bits as the serial sum (every node
+/// gets its elements' shares in element order either way).
+void compute_geometry(std::span<const Vec3> x, const ElementLoop& loop, TetGeometry& geometry);
 
 }  // namespace shellflow::fluid
