@@ -147,9 +147,13 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
     return;
   }
   const Index n = mesh.num_nodes();
+  // A load function that is not finite at t = 0 stops the run here, before ShellWriter
+  // restarts shell.pvd (which then keeps its t = 0 frame).
+  if (analysis.type == io::ShellAnalysisType::dynamic) (void)analysis.load_function.value(0.0);
   ShellWriter writer(model, outdir, c.output.shell_stress);
 
   // Records probes and (every output.every steps) fields of state u, v at time / level t.
+  long written = -1;  // the step of the last frame written
   auto record = [&](long step, double t, const Eigen::VectorXd& u, const Eigen::VectorXd* v,
                     bool write_fields) {
     std::vector<io::FieldView> fields;
@@ -158,7 +162,10 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
     const auto views = writer.update(u, v);
     fields.insert(fields.end(), views.begin(), views.end());
     probes.record(t, fields);
-    if (write_fields) writer.write(step, t, u);
+    if (write_fields) {
+      writer.write(step, t, u);
+      written = step;
+    }
   };
 
   if (analysis.type == io::ShellAnalysisType::static_load) {
@@ -219,7 +226,12 @@ void run_shell(const io::Case& c, const io::CaseMeshes& meshes, io::ProbeSet& pr
         }
       }
     } catch (const SolverError& e) {
-      record(step + 1, solver.load_factor(), solver.displacement(), nullptr, true);
+      // The solver is back at the last converged level (`step`), whose probe row is written:
+      // only its frame, unless it has one (no second frame or row of the same state).
+      if (written != step) {
+        writer.update(solver.displacement(), nullptr);
+        writer.write(step, solver.load_factor(), solver.displacement());
+      }
       throw SolverError(fmt::format("{}; the last converged state (load factor {:.6g}) is in {}",
                                     e.what(), solver.load_factor(), outdir.string()));
     }
