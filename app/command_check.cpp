@@ -4,11 +4,16 @@
 #include "commands.h"
 #include "output_dir.h"
 #include "shellflow/io/case_meshes.h"
+#include "shellflow/mesh/gmsh_input_check.h"
 
 namespace shellflow::app {
 
 int check_command(const CommonOptions& options) {
   const io::Case c = read_case(options);
+  // Every mesh file as `run` checks it before Gmsh opens it (a .geo runs nothing, a .msh is a
+  // sound mesh), also those no physical group is looked up in.
+  for (auto key : io::kMeshKeys)
+    if (const io::MeshSpec* spec = c.meshes.find(key)) mesh::check_gmsh_input(spec->file);
   io::check_case_groups(c);  // reads the groups from the .geo/.msh files, no meshing
   std::size_t meshes = 0;
   for (auto key : io::kMeshKeys) meshes += c.meshes.find(key) != nullptr;

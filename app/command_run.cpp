@@ -142,14 +142,7 @@ int run_command(const CommonOptions& options, const StopOptions& stop) {
   }
   control.log_summary(std::chrono::duration<double>(std::chrono::steady_clock::now() - t_start).count());
   spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
-  if (options.plot) {
-    // A static shell run records its load factor in the `time` column.
-    const bool static_run = !c.coupling && !c.motion && c.shell && c.shell->analysis &&
-                            c.shell->analysis->type == io::ShellAnalysisType::static_load;
-    std::vector<std::string> args{(outdir / "probes.csv").string(), "-o", (outdir / "probes.png").string()};
-    if (static_run) args.insert(args.end(), {"--x-label", "load factor"});
-    make_plot("plot_probes.py", args);
-  }
+  if (options.plot) make_plot("plot_probes.py", probe_plot_arguments(c, outdir));
   if (control.stopped()) {
     spdlog::warn("{}", control.stopped_message(options.case_file));
     return kStoppedExitCode;

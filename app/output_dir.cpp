@@ -98,6 +98,19 @@ std::size_t remove_previous_run_output(const std::filesystem::path& dir) {
   return removed;
 }
 
+std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::filesystem::path& outdir) {
+  std::vector<std::string> args{(outdir / "probes.csv").string(), "-o", (outdir / "probes.png").string()};
+  const bool static_run = !c.coupling && !c.motion && c.shell && c.shell->analysis &&
+                          c.shell->analysis->type == io::ShellAnalysisType::static_load;
+  if (static_run) args.insert(args.end(), {"--x-label", "load factor"});
+  for (const io::Probe& p : c.probes) {
+    if (!p.reference) continue;
+    const auto& r = *p.reference;
+    args.insert(args.end(), {"--reference", p.name, r.file.string(), r.column, fmt::format("{:.17g}", r.scale), r.label});
+  }
+  return args;
+}
+
 extern "C" char** environ;
 
 void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr) {

@@ -1,5 +1,7 @@
 #pragma once
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "commands.h"
 #include "shellflow/io/case.h"
@@ -18,4 +20,7 @@ bool is_run_output_name(const std::string& name);
 /// is_run_output_name accepts, directly in `dir`: no other file, no folder) so that a new run
 /// does not leave the old frames of a longer run in its series; logs how many. Returns that.
 std::size_t remove_previous_run_output(const std::filesystem::path& dir);
+/// The arguments of tools/plot_probes.py for a run's probes.csv: the abscissa's label (a static
+/// shell run's `time` column is its load factor) and each probe's reference curve.
+std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::filesystem::path& outdir);
 }  // namespace shellflow::app

@@ -153,9 +153,13 @@ void run_shell(const RunContext& run) {
     return;
   }
   const Index n = mesh.num_nodes();
+  // A load function that is not finite at t = 0 stops the run here, before ShellWriter
+  // restarts shell.pvd (which then keeps its t = 0 frame).
+  if (analysis.type == io::ShellAnalysisType::dynamic) (void)analysis.load_function.value(0.0);
   ShellWriter writer(model, outdir, c.output.shell_stress, run.control.output_mode());
 
   // Records probes and (every output.every steps) fields of state u, v at time / level t.
+  long written = -1;  // the step of the last frame written
   auto record = [&](long step, double t, const Eigen::VectorXd& u, const Eigen::VectorXd* v,
                     Record what) {
     std::vector<io::FieldView> fields;
@@ -164,7 +168,10 @@ void run_shell(const RunContext& run) {
     const auto views = writer.update(u, v);
     fields.insert(fields.end(), views.begin(), views.end());
     if (what != Record::fields) probes.record(t, fields);
-    if (what != Record::probes) writer.write(step, t, u);
+    if (what != Record::probes) {
+      writer.write(step, t, u);
+      written = step;
+    }
   };
 
   if (analysis.type == io::ShellAnalysisType::static_load) {
@@ -225,7 +232,9 @@ void run_shell(const RunContext& run) {
         }
       }
     } catch (const SolverError& e) {
-      record(step + 1, solver.load_factor(), solver.displacement(), nullptr, Record::probes_and_fields);
+      // The solver is back at the last converged level (`step`), whose probe row is written:
+      // only its frame, unless it has one (no second frame or row of the same state).
+      if (written != step) record(step, solver.load_factor(), solver.displacement(), nullptr, Record::fields);
       throw SolverError(fmt::format("{}; the last converged state (load factor {:.6g}) is in {}",
                                     e.what(), solver.load_factor(), outdir.string()));
     }

@@ -10,6 +10,8 @@ packages=(
   libyaml-cpp-dev libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev
   libomp-dev libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev
   python3 python3-matplotlib python3-numpy python3-meshio
+  # the fuzz preset (tests/fuzz): clang with libFuzzer and the sanitizer runtimes
+  clang-14 libclang-rt-14-dev
 )
 
 missing=()

@@ -946,6 +946,22 @@ class InputHardening(unittest.TestCase):
             self.assertEqual(len(lines), 1, r.stderr)
             self.assertIn(path + ":", lines[0])
 
+    def test_a_static_run_draws_the_probes_reference_curves(self):
+        # sze31_end_shear.yaml names the exact elastica (reference_sze31.csv) for both probes.
+        out = os.path.join(self.dir, "out")
+        r = shellflow("run", os.path.join(ROOT, "cases", "shell", "sze31_end_shear.yaml"), "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("plot_probes: tip_u: reference -1 x reference_sze31.csv:minus_u_tip (21 points)", r.stdout)
+        self.assertIn("plot_probes: tip_w: reference 1 x reference_sze31.csv:w_tip (21 points)", r.stdout)
+        self.assertTrue(os.path.getsize(os.path.join(out, "probes.png")) > 1000)
+        # `check` reads the reference: a column it lacks is refused at the key.
+        text = open(os.path.join(ROOT, "cases", "shell", "sze31_end_shear.yaml")).read()
+        text = text.replace("sze31_cantilever_8x1.geo", os.path.join(ROOT, "cases", "shell", "sze31_cantilever_8x1.geo"))
+        text = text.replace("file: reference_sze31.csv", "file: " + os.path.join(ROOT, "cases", "shell", "reference_sze31.csv"))
+        case = self.write("ref.yaml", text.replace("column: w_tip", "column: W_tip"))
+        self.assert_one_line(shellflow("check", case), "ref.yaml:%d: probes[1].reference.column: no column 'W_tip'"
+                             % line_of(text, "column: w_tip"), "did you mean 'w_tip'?")
+
     def test_mesh_json_stdout_is_only_json(self):
         case = self.case("geo: %s, order: 3" % self.STRIP_GEO)
         out = os.path.join(self.dir, "out")

@@ -413,6 +413,10 @@ namespace {
 const std::string kMotionHead =
     "name: t\n"
     "meshes: { fluid: { geo: fluid_slab.geo }, space: { geo: space_mesh.geo } }\n";
+// The smallest boundary motion of a `motion` section.
+const std::string kPanelMode =
+    "  prescribed: { type: panel_modes, leading_edge: [0, 0, 0], length: 0.5,\n"
+    "                modes: [{ amplitude: { type: constant, value: 0.01 } }] }\n";
 
 TEST(ReadCase, MotionAndTimeSectionsParseWithDefaults) {
   const Case c = read_case_string(
@@ -475,11 +479,19 @@ TEST(ReadCaseErrors, MotionSection) {
       at("inline.yaml", 10, "motion.prescribed.modes[0].amplitude.duration: must be > 0 s, got -1"));
   EXPECT_EQ(text_error(kMotionHead + "time: { end: 1, step: 2 }\n"),
             at("inline.yaml", 3, "time.step: must not exceed time.end = 1 s"));
+  // What `run` refuses before it starts, `check` refuses: no boundary motion, no coupling.
+  EXPECT_EQ(text_error(kMotionHead + "motion:\n  interface_groups: [panel]\ntime: { end: 1, step: 0.1 }\n"),
+            at("inline.yaml", 3,
+               "motion: a mesh-motion run without a 'coupling' section needs 'prescribed' (the boundary "
+               "motion); add it, or a 'coupling' section to let the shell drive it"));
+  EXPECT_NO_THROW(read_case_string(kMotionHead + "motion:\n  interface_groups: [panel]\n" + kPanelMode +
+                                       "time: { end: 1, step: 0.1 }\n",
+                                   data("inline.yaml")));
 }
 
 TEST(CheckPhysicalGroups, MotionGroupsAreCheckedOnTheSpaceMeshToo) {
   const Case c = read_case_string(
-      kMotionHead + "motion:\n  interface_groups: [panel]\ntime: { end: 1, step: 0.1 }\n",
+      kMotionHead + "motion:\n  interface_groups: [panel]\n" + kPanelMode + "time: { end: 1, step: 0.1 }\n",
       data("inline.yaml"));
   try {
     check_physical_groups(c, [](std::string_view mesh) {

@@ -239,7 +239,13 @@ TEST(YamlNode, MalformedStreamsFailFastWithOneLine) {
     EXPECT_EQ(msg.rfind("cases/t.yaml:", 0), 0u) << "'" << text << "': " << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   }
-  EXPECT_EQ(error_of([] { load(","); }), "cases/t.yaml:1: YAML syntax error: unexpected ','");
+  EXPECT_EQ(error_of([] { load(","); }), "cases/t.yaml:1: YAML syntax error: unexpected ','; check the brackets, "
+                                         "quotes, ':' and indentation of this line and the one before it");
+  // A control byte is shown as \xNN (not sent to the terminal); a tab in the indentation is named.
+  EXPECT_EQ(error_of([] { load("\x1b"); }).find('\x1b'), std::string::npos);
+  EXPECT_EQ(error_of([] { load("a:\n\tb: 1\n"); }),
+            "cases/t.yaml:2: YAML syntax error: illegal map value; indent with spaces: YAML does not allow "
+            "tabs there");
   EXPECT_EQ(error_of([] { load("a: 1\n---\nb: 2\n---\nc: 3\n"); }),
             "cases/t.yaml:3: expected one YAML document, found 3; remove the '---' separators");
   // '---' inside a block scalar is text, not a separator.

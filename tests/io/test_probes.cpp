@@ -3,6 +3,8 @@
 // outside the mesh or off the surface are InputErrors at the probe's line.
 #include <gtest/gtest.h>
 
+#include <fstream>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -142,6 +144,24 @@ TEST(ProbeSet, ManyPointProbesInOneMeshSampleALinearFieldExactly) {
     worst = std::max(worst, std::abs(values[k] - expected[k]));
   }
   std::printf("%zu probes: max interpolation error %.2e\n", values.size(), worst);
+}
+
+TEST(ProbeSet, TheSameStateRecordedTwiceIsOneRow) {
+  // A run whose solver fails records its last valid state again before reporting the error.
+  CaseMeshes meshes;
+  meshes.fluid = unit_cube();
+  std::vector<Probe> probes{point_probe("p", "fluid", "pressure", Vec3(0.3, 0.2, 0.5), ProbeComponent::scalar, 1)};
+  TempDir dir("probes_repeated");
+  {
+    ProbeSet set(probes, meshes, dir / "probes.csv");
+    const Fields f = fields_of(meshes);
+    const auto views = f.views();
+    for (const double t : {0.0, 0.0, 0.5, 1.0, 1.0, 0.5}) set.record(t, views);
+  }
+  std::ifstream in(dir / "probes.csv");
+  std::vector<std::string> times;
+  for (std::string line; std::getline(in, line);) times.push_back(line.substr(0, line.find(',')));
+  EXPECT_EQ(times, (std::vector<std::string>{"time", "0", "0.5", "1", "0.5"}));
 }
 
 TEST(ProbeSet, PointOutsideTheMeshAfterValidProbesNamesTheProbeLine) {

@@ -328,6 +328,13 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
             a->optional<double>("initial_load_increment", 0.1, Range::positive());
         analysis.final_load_factor = a->optional<double>("final_load_factor", 1.0, Range::positive());
       }
+      for (const Support& support : shell.supports) {
+        if (support.type == SupportType::prescribed && analysis.control != PathControl::load) {
+          a->fail("control", fmt::format("the prescribed support {} (line {}) moves with the load factor, "
+                                         "which control: {} varies inside a step; use control: load",
+                                         support.where.key_path, support.where.line, control));
+        }
+      }
     } else if (analysis.type == ShellAnalysisType::dynamic) {
       if (!(shell.material.density > 0.0)) {
         a->fail("type", "a dynamic analysis needs the shell's mass; set shell.material.density > 0");
@@ -556,6 +563,7 @@ Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
   } else if (item.has("reduce")) {
     item.fail("reduce", "applies only to probes on a 'group'");
   }
+  if (auto r = item.optional_child("reference")) p.reference = detail::read_probe_reference(*r);
   item.finish();
   return p;
 }
@@ -689,6 +697,10 @@ Case read_case(const YamlNode& root) {
   }
   if (c.motion && !(c.time && c.time->step > 0)) {
     throw_at(c.motion->where, "a mesh-motion run needs a 'time' section (end, step)");
+  }
+  if (c.motion && !c.coupling && !c.motion->prescribed) {
+    throw_at(c.motion->where, "a mesh-motion run without a 'coupling' section needs 'prescribed' (the "
+                              "boundary motion); add it, or a 'coupling' section to let the shell drive it");
   }
   if (c.fluid && c.fluid->analysis && c.fluid->analysis->type == FluidAnalysisType::transient &&
       !c.time) {
@@ -830,8 +842,8 @@ Case read_case(const fs::path& file, std::span<const KeyOverride> overrides) {
   return read_case(YamlNode::load_file(file, overrides));
 }
 
-Case read_case_string(std::string_view text, const fs::path& file) {
-  return read_case(YamlNode::load_string(text, file));
+Case read_case_string(std::string_view text, const fs::path& file, std::span<const KeyOverride> overrides) {
+  return read_case(YamlNode::load_string(text, file, overrides));
 }
 
 void check_physical_groups(const Case& c, const GroupNamesOfMesh& groups_of_mesh) {

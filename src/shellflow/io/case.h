@@ -381,7 +381,16 @@ struct Probe {
   Index node = 0;                          ///< location == node: 0-based node index in that mesh
   std::string group;                       ///< location == group: physical group of that mesh
   ProbeReduce reduce = ProbeReduce::mean;  ///< location == group
-  SourceLocation where;                    ///< the list item `probes[i]`
+  /// A curve to draw beside the probe in probes.png (`reference:`): a column of a CSV file
+  /// whose first column is the abscissa (time, or a static run's load factor), times `scale`.
+  struct Reference {
+    std::filesystem::path file;  ///< resolved from the case file's folder; checked to exist
+    std::string column;          ///< a column of its header (not the first)
+    double scale = 1.0;
+    std::string label;           ///< legend text; default: the file's name and the column
+  };
+  std::optional<Reference> reference;
+  SourceLocation where;  ///< the list item `probes[i]`
 };
 
 // ---- output -----------------------------------------------------------------------------------
@@ -449,7 +458,8 @@ struct Case {
 Case read_case(const std::filesystem::path& file, std::span<const KeyOverride> overrides = {});
 /// Same, from text; `file` names it in messages and relative paths are resolved from its
 /// directory.
-Case read_case_string(std::string_view text, const std::filesystem::path& file);
+Case read_case_string(std::string_view text, const std::filesystem::path& file,
+                      std::span<const KeyOverride> overrides = {});
 
 /// The probe of the response analysis of a coupled case, as an index into c.probes: the one
 /// coupling.response.probe names, else the first probe of field shell.displacement; nullopt

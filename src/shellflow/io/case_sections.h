@@ -17,6 +17,10 @@ Vec3 unit_vector(const YamlNode& node, std::string_view key, const Vec3& v);
 /// A time function `{type: ..., ...}` (docs/case-format.md "Time functions").
 TimeFunction read_time_function(const YamlNode& node);
 
+/// A probe's `reference: {file, column, scale, label}` (case_reference.cpp): the file must be
+/// a CSV with a header that holds the column.
+Probe::Reference read_probe_reference(const YamlNode& node);
+
 /// The `coupling` section.
 CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
                               std::vector<GroupReference>& refs);

@@ -174,7 +174,9 @@ std::vector<double> ProbeSet::sample(std::span<const FieldView> fields) const {
 }
 
 void ProbeSet::record(double time, std::span<const FieldView> fields) {
+  if (last_time_ == time) return;  // the same state again (see the header)
   writer_.append(time, sample(fields));
+  last_time_ = time;
 }
 
 }  // namespace shellflow::io

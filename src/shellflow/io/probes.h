@@ -3,6 +3,7 @@
 // OUTDIR/probes.csv (`time,<probe names...>`).
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -31,7 +32,9 @@ class ProbeSet {
            const std::filesystem::path& csv_path, OutputMode mode = OutputMode::create);
   ~ProbeSet();
 
-  /// Appends one CSV row. Every probed field must be among `fields`.
+  /// Appends one CSV row. Every probed field must be among `fields`. A time equal to the
+  /// last row's is not written again: a run whose solver fails records its last valid state
+  /// once more (to write its fields), and probes.csv holds one row per state.
   void record(double time, std::span<const FieldView> fields);
   /// Values of the probes for these fields, in declaration order (what record() writes).
   std::vector<double> sample(std::span<const FieldView> fields) const;
@@ -42,6 +45,7 @@ class ProbeSet {
   struct Located;
   std::vector<Located> probes_;
   ProbeWriter writer_;
+  std::optional<double> last_time_;  ///< of the last row written
 };
 
 }  // namespace shellflow::io

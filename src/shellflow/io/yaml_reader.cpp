@@ -39,7 +39,18 @@ std::string SourceLocation::prefix() const {
 }
 
 std::string SourceLocation::message(std::string_view what) const {
-  return fmt::format("{}: {}", prefix(), what);
+  // One line, nothing for the terminal to interpret: keys and values quoted from the file
+  // may hold any byte; control bytes (newlines, escapes) are shown as \xNN.
+  std::string out;
+  for (const char ch : fmt::format("{}: {}", prefix(), what)) {
+    const auto b = static_cast<unsigned char>(ch);
+    if (b < 0x20 || b == 0x7f) {
+      out += fmt::format("\\x{:02x}", b);
+    } else {
+      out += ch;
+    }
+  }
+  return out;
 }
 
 void throw_at(const SourceLocation& where, std::string_view what) {
@@ -141,7 +152,8 @@ std::string describe_value(const YAML::Node& node) {
   if (!node.IsDefined() || node.IsNull()) return "an empty value";
   if (node.IsMap()) return "a map";
   if (node.IsSequence()) return node.size() == 0 ? "an empty list" : "a list";
-  return fmt::format("'{}'", node.Scalar());
+  const std::string& text = node.Scalar();
+  return text.size() <= 60 ? fmt::format("'{}'", text) : fmt::format("'{}...' ({} characters)", text.substr(0, 60), text.size());
 }
 
 int line_of(const YAML::Mark& mark, int fallback) {
@@ -177,6 +189,21 @@ class DocumentCounter : public YAML::EventHandler {
   }
 };
 
+/// What to do about a YAML syntax error at 1-based `line` of `text` (0: unknown).
+std::string syntax_hint(std::string_view text, int line) {
+  std::size_t start = 0;
+  for (int l = 1; l < line && start != std::string_view::npos; ++l) {
+    start = text.find('\n', start);
+    if (start != std::string_view::npos) ++start;
+  }
+  if (line > 0 && start != std::string_view::npos) {
+    const std::string_view rest = text.substr(start);
+    const std::string_view indent = rest.substr(0, rest.find_first_not_of(" \t"));
+    if (indent.find('\t') != std::string_view::npos) return "indent with spaces: YAML does not allow tabs there";
+  }
+  return "check the brackets, quotes, ':' and indentation of this line and the one before it";
+}
+
 /// Number of documents in `text` and the 1-based line of the second one's first node.
 /// A document that starts where the previous one started (the parser makes no progress, as
 /// yaml-cpp 0.7 does on a lone ',') is a syntax error at that character.
@@ -192,8 +219,10 @@ std::pair<int, int> count_documents(const std::string& text) {
     if (previous_pos && pos <= *previous_pos) {
       std::size_t at = pos >= 0 ? static_cast<std::size_t>(pos) : 0;
       while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
-      const std::string what =
-          at < text.size() ? fmt::format("unexpected '{}'", text[at]) : "unexpected text";
+      const auto byte = at < text.size() ? static_cast<unsigned char>(text[at]) : 0;
+      const std::string what = at >= text.size() ? std::string("unexpected text")
+                               : byte >= 0x20 && byte < 0x7f ? fmt::format("unexpected '{}'", text[at])
+                                                             : fmt::format("unexpected byte \\x{:02x}", byte);
       throw YAML::ParserException(mark, what);
     }
     previous_pos = pos;
@@ -366,7 +395,8 @@ YamlNode YamlNode::load_string(std::string_view text, const fs::path& file, std:
     }
     root = YAML::Load(owned);
   } catch (const YAML::Exception& e) {
-    throw_at({doc->file, line_of(e.mark, 0), {}}, "YAML syntax error: " + e.msg);
+    const int line = line_of(e.mark, 0);
+    throw_at({doc->file, line, {}}, fmt::format("YAML syntax error: {}; {}", e.msg, syntax_hint(owned, line)));
   }
   if (!root.IsMap()) {
     throw_at({doc->file, 1, {}},

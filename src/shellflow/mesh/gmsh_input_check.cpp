@@ -627,8 +627,9 @@ void check_geo_script(const fs::path& file) {
   scanner.scan(file);
 }
 
-void check_msh_file(const fs::path& file) {
-  const std::string text = read_text(file);
+void check_msh_file(const fs::path& file) { check_msh_text(read_text(file), file); }
+
+void check_msh_text(std::string_view text, const fs::path& file) {
   const auto blank = [](char c) { return std::isspace(static_cast<unsigned char>(c)) != 0; };
   if (std::all_of(text.begin(), text.end(), blank)) {
     throw_input_error("{}: empty file; expected a Gmsh mesh: {}", file.string(),
@@ -663,7 +664,7 @@ void check_msh_file(const fs::path& file) {
     if (version != "4.1" || file_type != 0) {
       throw_input_error("{}: .msh format '{}' (file type {}) is not supported; re-export the "
                         "mesh from Gmsh in format 4.1 ASCII (Mesh.MshFileVersion = 4.1)",
-                        file.string(), version, file_type);
+                        file.string(), excerpt(version), file_type);
     }
     if (data_size != static_cast<int>(sizeof(double))) {
       throw_input_error("{}: damaged $MeshFormat section (line 2): data size {}, expected {}; {}",
@@ -672,7 +673,7 @@ void check_msh_file(const fs::path& file) {
     if (lines[2].text != "$EndMeshFormat") {
       throw_input_error("{}: damaged $MeshFormat section (line 3): expected $EndMeshFormat, got "
                         "'{}'; {}",
-                        file.string(), lines[2].text, kMshFix);
+                        file.string(), excerpt(lines[2].text), kMshFix);
     }
   }
 
@@ -692,15 +693,16 @@ void check_msh_file(const fs::path& file) {
     }
     const std::string name(head.text.substr(1));
     const std::string end_marker = "$End" + name;
+    const std::string shown = excerpt(name);  // the name as read: no raw bytes in a message
     std::size_t end = i + 1;
     while (end < lines.size() && !(lines[end].text.starts_with("$"))) ++end;
     if (end >= lines.size()) {
-      throw_input_error("{}: damaged ${} section (line {}): no {} line; {}", file.string(), name,
-                        head.number, end_marker, kMshFix);
+      throw_input_error("{}: damaged ${} section (line {}): no $End{} line; {}", file.string(), shown,
+                        head.number, shown, kMshFix);
     }
     if (lines[end].text != end_marker) {
-      throw_input_error("{}: damaged ${} section (line {}): expected {}, got '{}'; {}",
-                        file.string(), name, lines[end].number, end_marker,
+      throw_input_error("{}: damaged ${} section (line {}): expected $End{}, got '{}'; {}",
+                        file.string(), shown, lines[end].number, shown,
                         excerpt(lines[end].text), kMshFix);
     }
     static const std::set<std::string> checked = {"PhysicalNames", "Entities", "Nodes",
@@ -713,7 +715,7 @@ void check_msh_file(const fs::path& file) {
       throw_input_error(
           "{}: {} section ${} at line {}; shellflow reads meshes with the sections "
           "$MeshFormat, $PhysicalNames, $Entities, $Nodes and $Elements only: {}",
-          file.string(), unsupported.count(name) ? "unsupported" : "unknown", name, head.number,
+          file.string(), unsupported.count(name) ? "unsupported" : "unknown", shown, head.number,
           kMshFix);
     }
     if (!done.insert(name).second) {

@@ -15,6 +15,7 @@
 //
 // Every problem is one InputError line naming the file, the line and the fix.
 #include <filesystem>
+#include <string_view>
 
 namespace shellflow::mesh {
 
@@ -27,6 +28,8 @@ void check_geo_script(const std::filesystem::path& file);
 
 /// Validates the structure of a `.msh` file (format 4.1 ASCII).
 void check_msh_file(const std::filesystem::path& file);
+/// The same check of a `.msh` file's text (`file` names it in messages).
+void check_msh_text(std::string_view text, const std::filesystem::path& file);
 
 /// Scans the option files Gmsh merges after opening `file` (`FILE.opt`, `FILE.opt.opt`...).
 void check_gmsh_option_files(const std::filesystem::path& file);
