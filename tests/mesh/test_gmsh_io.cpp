@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -64,6 +65,18 @@ TEST(GmshIo, UnitCubeOfEachOrderHasPositiveTetrahedraAndItsGroups) {
     EXPECT_TRUE(std::all_of(used.begin(), used.end(), [](bool u) { return u; }));
     EXPECT_EQ(mesh.node_tags.size(), mesh.nodes.size());
   }
+}
+
+// Gmsh sets the OpenMP thread count to its General.NumThreads (1) when it meshes; the
+// solvers after the meshing must keep the process's count (they ran on one thread before).
+TEST(GmshIo, MeshingKeepsTheOpenMpThreadCount) {
+  const int before = omp_get_max_threads();
+  omp_set_num_threads(2);
+  (void)generate_mesh(data_dir / "unit_cube.geo", with_order(1), "cube");
+  EXPECT_EQ(omp_get_max_threads(), 2);
+  (void)physical_group_names(data_dir / "unit_cube.geo");
+  EXPECT_EQ(omp_get_max_threads(), 2);
+  omp_set_num_threads(before);
 }
 
 TEST(GmshIo, WrittenMshReadsBackIdentically) {

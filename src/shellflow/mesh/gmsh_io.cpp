@@ -1,6 +1,7 @@
 #include "shellflow/mesh/gmsh_io.h"
 
 #include <gmsh.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <mutex>
@@ -15,14 +16,20 @@ namespace {
 
 /// Gmsh has one global state: initialise it once per use, serialise all uses, and turn
 /// its errors (which it throws as various types) into InputError naming the file.
+/// Gmsh also sets the process's OpenMP thread count to its General.NumThreads (1 by
+/// default) when it meshes, which left every solver after the meshing on one thread: the
+/// session puts the count back when it ends.
 class GmshSession {
  public:
-  explicit GmshSession(bool verbose) : lock_(mutex()) {
+  explicit GmshSession(bool verbose) : lock_(mutex()), threads_(omp_get_max_threads()) {
     gmsh::initialize(0, nullptr, /*readConfigFiles=*/false);
     gmsh::option::setNumber("General.Terminal", verbose ? 1 : 0);
     gmsh::option::setNumber("General.Verbosity", verbose ? 5 : 2);
   }
-  ~GmshSession() { gmsh::finalize(); }
+  ~GmshSession() {
+    gmsh::finalize();
+    omp_set_num_threads(threads_);
+  }
   GmshSession(const GmshSession&) = delete;
   GmshSession& operator=(const GmshSession&) = delete;
 
@@ -32,6 +39,7 @@ class GmshSession {
     return m;
   }
   std::lock_guard<std::mutex> lock_;
+  int threads_;
 };
 
 std::string last_gmsh_error() {
