@@ -22,6 +22,7 @@
 #include "run_control.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
+#include "shellflow/fluid/residual.h"
 
 int main(int argc, char** argv) {
   using namespace shellflow;
@@ -36,6 +37,11 @@ int main(int argc, char** argv) {
                "shellflow"};
   cli.set_version_flag("--version", std::string("shellflow ") + shellflow::version);
   cli.require_subcommand(1);
+  cli.footer(
+      "Environment: OMP_NUM_THREADS (threads of a run), OMP_WAIT_POLICY=passive (on a loaded "
+      "machine), SHELLFLOW_SIMD=auto|sse2|avx2|avx2-fma (instruction set of the flow's element "
+      "pass; default auto: the best the CPU has; sse2 is the reference, avx2 gives its bits, "
+      "avx2-fma rounds differently).");
   cli.fallthrough();  // -v/-q also after the subcommand
   bool verbose = false, quiet = false;
   cli.add_flag("-v,--verbose", verbose, "Print debug messages (and Gmsh's progress)");
@@ -137,6 +143,8 @@ int main(int argc, char** argv) {
                     : quiet ? spdlog::level::warn
                             : spdlog::level::info);
   try {
+    // A bad SHELLFLOW_SIMD is refused before anything is read or meshed.
+    spdlog::debug("element pass: {}", fluid::to_string(fluid::simd_path()));
     if (*run) return app::run_command(options, stop);
     if (*mesh) return app::mesh_command(options, json);
     if (*check) return app::check_command(options);

@@ -13,6 +13,7 @@
 #include "shellflow/core/error.h"
 #include "output_dir.h"
 #include "shellflow/core/version.h"
+#include "shellflow/fluid/residual.h"
 
 namespace shellflow::app {
 namespace fs = std::filesystem;
@@ -74,6 +75,7 @@ io::CheckpointHeader current_header(const io::Case& c, std::vector<io::SectionDi
   h.build = io::executable_build_id();
   h.case_name = c.name;
   h.threads = omp_get_max_threads();
+  h.simd = std::string(fluid::to_string(fluid::simd_path()));
   h.digests = std::move(digests);
   return h;
 }
@@ -105,6 +107,10 @@ RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options,
       spdlog::warn("{}: written with {} OpenMP thread(s), this run has {}; the flow may differ from an "
                    "uninterrupted run in the last bits (set OMP_NUM_THREADS={})",
                    restart_->file.string(), then.threads, now.threads, then.threads);
+    if (then.simd != now.simd)
+      spdlog::warn("{}: written with the {} element pass, this run uses {}; the flow may differ from an "
+                   "uninterrupted run in the last bits (set SHELLFLOW_SIMD={})",
+                   restart_->file.string(), then.simd, now.simd, then.simd);
     spdlog::info("restart from {}: step {}, t = {:.6g} s", restart_->file.string(), then.step, then.time);
   }
 }

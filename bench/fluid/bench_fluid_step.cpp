@@ -17,7 +17,9 @@
 #include <vector>
 
 #include "box_mesh.h"
+#include "shellflow/core/error.h"
 #include "shellflow/fluid/fluid_model.h"
+#include "shellflow/fluid/residual.h"
 #include "shellflow/fluid/ordering.h"
 
 using namespace shellflow;
@@ -64,6 +66,13 @@ double resident_bytes() {
 void FluidStep(benchmark::State& st) {
   const int n = int(st.range(0));
   const int threads = int(st.range(1));
+  try {
+    set_simd_path(SimdPath(st.range(2)));
+  } catch (const shellflow::Error& e) {
+    st.SkipWithError(e.what());
+    return;
+  }
+  st.SetLabel(std::string(to_string(simd_path())));
   omp_set_num_threads(threads);
   const double rss_before = resident_bytes();
   auto mesh = bench::box_mesh(n);
@@ -111,14 +120,11 @@ void FluidStep(benchmark::State& st) {
                                                 benchmark::Counter::kIsRate,
                                                 benchmark::Counter::kIs1024);
 }
+// Arguments: n (12: 10 368 tets, 26: 105 456, 55: 998 250), threads, instruction set of the
+// element pass (0 sse2, 1 avx2, 2 avx2-fma).
 BENCHMARK(FluidStep)
-    ->ArgNames({"n", "threads"})
-    ->Args({12, 1})   // 10 368 tets
-    ->Args({12, 2})
-    ->Args({26, 1})   // 105 456 tets
-    ->Args({26, 2})
-    ->Args({55, 1})   // 998 250 tets
-    ->Args({55, 2})
+    ->ArgNames({"n", "threads", "simd"})
+    ->ArgsProduct({{12, 26, 55}, {1, 2}, {0, 2}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

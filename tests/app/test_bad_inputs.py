@@ -56,15 +56,17 @@ class Entry:
     edit's `new` text starts, `{dir}` the folder of the entry); fix: the substring that says
     what to do; run_output: after a run, the output folder must hold a readable state with at
     least this many probe rows; at: `{line}` is instead the line of the first line of the case
-    that starts with this text.
+    that starts with this text; env: environment variables set for the run.
     """
 
     def __init__(self, name, base=None, edit=(), sets=(), command="check", files=None, text=None,
-                 expect=(), fix=None, run_output=None, timeout=120, case_name="case.yaml", at=None):
+                 expect=(), fix=None, run_output=None, timeout=120, case_name="case.yaml", at=None,
+                 env=None):
         self.name, self.base, self.sets, self.command = name, base, list(sets), command
         self.edit = [edit] if edit and isinstance(edit[0], str) else list(edit)
         self.files, self.text, self.expect, self.fix = files or {}, text, list(expect), fix
         self.run_output, self.timeout, self.case_name, self.at = run_output, timeout, case_name, at
+        self.env = env or {}
 
 
 def panel_msh_lines(name="strip_20x1.msh"):
@@ -121,6 +123,9 @@ RIEMANN_VACUUM = (
     "      right: { density: 1.0, velocity: [8, 0, 0], pressure: 1.0 }")
 
 CATALOGUE = [
+    # ---- the environment ----
+    Entry("simd_unknown_instruction_set", base=SOD, command="run", env={"SHELLFLOW_SIMD": "avx9"},
+          expect=["environment variable SHELLFLOW_SIMD", "'avx9'"], fix="use auto, sse2, avx2 or avx2-fma"),
     # ---- issue 14's classes: .geo commands, damaged and hostile .msh files, malformed YAML ----
     Entry("geo_system_command", files={"strip.geo": "Point(1) = {0, 0, 0};\nSystem \"touch INJECTED\";\n"},
           text="name: s\nmeshes:\n  shell: { geo: strip.geo }\n",
@@ -372,7 +377,8 @@ class BadInputCatalogue(unittest.TestCase):
         for s in e.sets:
             args += ["--set", s]
         start = time.monotonic()
-        r = subprocess.run(args, capture_output=True, text=True, timeout=e.timeout, cwd=folder)
+        r = subprocess.run(args, capture_output=True, text=True, timeout=e.timeout, cwd=folder,
+                           env={**os.environ, **e.env})
         elapsed = time.monotonic() - start
         return r, line, out, elapsed
 

@@ -56,6 +56,7 @@ CheckpointHeader header(long step) {
   h.step = step;
   h.time = 1e-4 * double(step);
   h.threads = 2;
+  h.simd = "avx2";
   h.digests = {{"shell", 7}, {"mesh shell", 9}};
   return h;
 }
@@ -126,6 +127,7 @@ TEST(Checkpoint, RoundTripKeepsHeaderAndPayload) {
   EXPECT_EQ(c.header.step, 120);
   EXPECT_EQ(c.header.time, 1e-4 * 120);
   EXPECT_EQ(c.header.threads, 2);
+  EXPECT_EQ(c.header.simd, "avx2");
   EXPECT_EQ(c.header.digests, header(120).digests);
   EXPECT_EQ(find_checkpoint(dir.path()), file);
 }

@@ -105,17 +105,29 @@ inline void load_element(std::span<const Index> tets, Index e, const TetGeometry
   }
 }
 
+/// Makes `v` a rounded value: the compiler may not fuse the product that produced it into a
+/// later add (fused multiply-add). Equal nodal values then give differences of exactly zero,
+/// as without contraction: fma(a, b, -round(a b)) is the rounding error, not 0.
+template <class Real>
+inline void rounded(Real& v) {
+  asm("" : "+x"(v));
+}
+
 template <class Real>
 inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
   const auto& B = s.grad;
-  // Nodal velocity and pressure.
+  // Nodal velocity and pressure, rounded before their differences are formed.
   Real vel[4][3], p[4];
   for (int a = 0; a < 4; ++a) {
     const Real inv_rho = 1.0 / s.u[a][0];
-    for (int j = 0; j < 3; ++j) vel[a][j] = s.u[a][1 + j] * inv_rho;
+    for (int j = 0; j < 3; ++j) {
+      vel[a][j] = s.u[a][1 + j] * inv_rho;
+      rounded(vel[a][j]);
+    }
     p[a] = k.gamma_minus_1 *
            (s.u[a][4] - 0.5 * (s.u[a][1] * vel[a][0] + s.u[a][2] * vel[a][1] +
                                s.u[a][3] * vel[a][2]));
+    rounded(p[a]);
   }
   // Differences to node 0: gradients of U, velocity and p.
   Real du[4][num_variables], dvel[4][3], dp[4];

@@ -1,6 +1,12 @@
 #include "shellflow/fluid/residual.h"
 
 #include <algorithm>
+#include <atomic>
+#include <cstdlib>
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
 
 #include "shellflow/fluid/element_kernel.h"
 
@@ -8,61 +14,200 @@ namespace shellflow::fluid {
 
 namespace {
 
-// Two elements per step of the element pass, one per lane of an SSE2 register (the x86-64
-// baseline): the kernel's arithmetic runs on packs, gathers and scatters stay scalar.
-using Pack = double __attribute__((vector_size(16)));
-constexpr int pack_lanes = 2;
+// The element pass runs W elements at once, one per lane of a pack of W doubles; the kernel's
+// arithmetic runs on packs, gathers and scatters stay scalar and go in element order, so every
+// lane does exactly the operations of the scalar kernel whatever W is. Three variants, chosen
+// at run time (simd_path()): 2 lanes in SSE2 (the x86-64 baseline, the reference), 4 lanes in
+// AVX2 (the same bits), and 4 lanes in AVX2 with fused multiply-adds (rounding differs).
+template <int W>
+struct PackType;
+template <>
+struct PackType<2> {
+  using type = double __attribute__((vector_size(16)));
+};
+template <>
+struct PackType<4> {
+  using type = double __attribute__((vector_size(32)));
+};
+
+struct PassInput {
+  const ElementLoop& loop;
+  const TetGeometry& g;
+  const FluidState& u;
+  std::span<const Vec3> w;
+  std::span<const double> element_viscosity;
+  std::span<const double> element_dt, nodal_dt;
+  detail::KernelConstants k;
+  double dt;
+  std::array<double*, num_variables> out;
+};
+
+template <int W>
+[[gnu::always_inline]] inline void pass_block(const PassInput& in, Index first, Index last) {
+  using Pack = typename PackType<W>::type;
+  const auto& k = in.k;
+  const bool has_viscosity = !in.element_viscosity.empty();
+  const bool local = !in.nodal_dt.empty();
+  // Local stepping: the first-order rows get the nodal dt_a when scattered.
+  const Pack dt = Pack{} + (local ? 1.0 : in.dt);
+  for (Index e0 = first; e0 < last; e0 += W) {
+    // A short last pack repeats its last element in the idle lanes (not scattered).
+    const int count = static_cast<int>(std::min<Index>(W, last - e0));
+    detail::ElementData<Pack> s;
+    Pack viscosity, dt_element;
+    Index nodes[W][4];
+    for (int l = 0; l < W; ++l) {
+      const auto e = std::size_t(e0 + std::min(l, count - 1));
+      s.volume[l] = in.g.volume[e];
+      const auto& b = in.g.grad[e];
+      for (int a = 0; a < 4; ++a) {
+        for (int j = 0; j < 3; ++j) s.grad[a][j][l] = b[std::size_t(3 * a + j)];
+        const Index n = in.loop.tets[4 * e + std::size_t(a)];
+        nodes[l][a] = n;
+        for (int v = 0; v < num_variables; ++v)
+          s.u[a][v][l] = in.u.var[std::size_t(v)][std::size_t(n)];
+        if (k.mesh_moves)
+          for (int j = 0; j < 3; ++j) s.w[a][j][l] = in.w[std::size_t(n)][j];
+      }
+      viscosity[l] = has_viscosity ? in.element_viscosity[e] : 0.0;
+      dt_element[l] = local ? in.element_dt[e] : in.dt;
+    }
+    detail::compute_element(k, s);
+    Pack value[4][num_variables];
+    detail::element_contributions(k, s, viscosity, dt, dt_element, value);
+    for (int l = 0; l < count; ++l)
+      for (int a = 0; a < 4; ++a) {
+        const auto node = std::size_t(nodes[l][a]);
+        const double f = local ? in.nodal_dt[node] : 1.0;
+        for (int v = 0; v < num_variables; ++v)
+          in.out[std::size_t(v)][node] += local ? f * value[a][v][l] : value[a][v][l];
+      }
+  }
+}
+
+// One function per instruction set, everything inlined into it (flatten) so that the kernel
+// is compiled for that set. The parallel loop stays outside, in the baseline code.
+[[gnu::flatten]] void pass_block_sse2(const PassInput& in, Index first, Index last) {
+  pass_block<2>(in, first, last);
+}
+[[gnu::flatten, gnu::target("avx2")]] void pass_block_avx2(const PassInput& in, Index first,
+                                                           Index last) {
+  pass_block<4>(in, first, last);
+}
+// The project builds as ISO C++ (no contraction); this variant asks for it.
+[[gnu::flatten, gnu::target("avx2,fma"), gnu::optimize("fp-contract=fast")]] void
+pass_block_avx2_fma(const PassInput& in, Index first, Index last) {
+  pass_block<4>(in, first, last);
+}
+
+bool cpu_has(SimdPath path) {
+  switch (path) {
+    case SimdPath::sse2:
+      return true;
+    case SimdPath::avx2:
+      return __builtin_cpu_supports("avx2");
+    case SimdPath::avx2_fma:
+      return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  }
+  return false;
+}
+
+SimdPath best_path() {
+  return cpu_has(SimdPath::avx2_fma) ? SimdPath::avx2_fma
+         : cpu_has(SimdPath::avx2)   ? SimdPath::avx2
+                                     : SimdPath::sse2;
+}
+
+/// `text` with control bytes shown as \xNN and cut at 40 characters (for one-line messages).
+std::string printable(std::string_view text) {
+  std::string out;
+  for (const char ch : text.substr(0, 40)) {
+    const auto b = static_cast<unsigned char>(ch);
+    out += b < 0x20 || b == 0x7f ? fmt::format("\\x{:02x}", b) : std::string(1, ch);
+  }
+  return text.size() > 40 ? out + "..." : out;
+}
+
+std::atomic<int>& chosen_path() {
+  static std::atomic<int> path = -1;  // -1: not chosen yet
+  return path;
+}
 
 }  // namespace
+
+std::string_view to_string(SimdPath path) {
+  switch (path) {
+    case SimdPath::sse2:
+      return "sse2";
+    case SimdPath::avx2:
+      return "avx2";
+    case SimdPath::avx2_fma:
+      return "avx2-fma";
+  }
+  return "?";
+}
+
+SimdPath parse_simd_path(std::string_view name, std::string_view origin) {
+  if (name == "auto") return best_path();
+  for (const SimdPath path : {SimdPath::sse2, SimdPath::avx2, SimdPath::avx2_fma})
+    if (name == to_string(path)) {
+      if (!cpu_has(path))
+        throw_input_error("{}: this CPU has no {}; use auto or sse2", origin, to_string(path));
+      return path;
+    }
+  throw_input_error("{}: unknown instruction set '{}'; use auto, sse2, avx2 or avx2-fma", origin,
+                    printable(name));
+}
+
+SimdPath simd_path() {
+  int path = chosen_path().load(std::memory_order_relaxed);
+  if (path < 0) {
+    const char* env = std::getenv("SHELLFLOW_SIMD");
+    const SimdPath p = env ? parse_simd_path(env, "environment variable SHELLFLOW_SIMD")
+                           : best_path();
+    path = static_cast<int>(p);
+    chosen_path().store(path, std::memory_order_relaxed);
+  }
+  return static_cast<SimdPath>(path);
+}
+
+void set_simd_path(SimdPath path) {
+  if (!cpu_has(path))
+    throw_input_error("instruction set {}: this CPU does not have it", to_string(path));
+  chosen_path().store(static_cast<int>(path), std::memory_order_relaxed);
+}
 
 void assemble_residual(const ResidualParameters& p, const ElementLoop& loop,
                        const TetGeometry& g, const FluidState& u, std::span<const Vec3> w,
                        std::span<const double> element_viscosity, FluidState& r) {
   r.fill_zero();
-  const detail::KernelConstants k{p.gas.gamma - 1.0, p.dt,
-                                  p.tg_velocity == TgVelocity::relative,
-                                  p.moving_mesh_correction, p.mesh_moves};
-  const bool has_viscosity = !element_viscosity.empty();
-  const bool local = !p.nodal_dt.empty();
-  std::array<double*, num_variables> out{};
-  for (int v = 0; v < num_variables; ++v) out[std::size_t(v)] = r.var[std::size_t(v)].data();
-  // Local stepping: the first-order rows get the nodal dt_a when scattered.
-  const Pack dt = Pack{} + (local ? 1.0 : p.dt);
-  for_each_block(loop, [&](Index first, Index last) {
-    for (Index e0 = first; e0 < last; e0 += pack_lanes) {
-      // A short last pack repeats its last element in the idle lanes (not scattered).
-      const int count = static_cast<int>(std::min<Index>(pack_lanes, last - e0));
-      detail::ElementData<Pack> s;
-      Pack viscosity, dt_element;
-      Index nodes[pack_lanes][4];
-      for (int l = 0; l < pack_lanes; ++l) {
-        const auto e = std::size_t(e0 + std::min(l, count - 1));
-        s.volume[l] = g.volume[e];
-        const auto& b = g.grad[e];
-        for (int a = 0; a < 4; ++a) {
-          for (int j = 0; j < 3; ++j) s.grad[a][j][l] = b[std::size_t(3 * a + j)];
-          const Index n = loop.tets[4 * e + std::size_t(a)];
-          nodes[l][a] = n;
-          for (int v = 0; v < num_variables; ++v)
-            s.u[a][v][l] = u.var[std::size_t(v)][std::size_t(n)];
-          if (k.mesh_moves)
-            for (int j = 0; j < 3; ++j) s.w[a][j][l] = w[std::size_t(n)][j];
-        }
-        viscosity[l] = has_viscosity ? element_viscosity[e] : 0.0;
-        dt_element[l] = local ? p.element_dt[e] : p.dt;
-      }
-      detail::compute_element(k, s);
-      Pack value[4][num_variables];
-      detail::element_contributions(k, s, viscosity, dt, dt_element, value);
-      for (int l = 0; l < count; ++l)
-        for (int a = 0; a < 4; ++a) {
-          const auto node = std::size_t(nodes[l][a]);
-          const double f = local ? p.nodal_dt[node] : 1.0;
-          for (int v = 0; v < num_variables; ++v)
-            out[std::size_t(v)][node] += local ? f * value[a][v][l] : value[a][v][l];
-        }
-    }
-  });
+  PassInput in{loop,
+               g,
+               u,
+               w,
+               element_viscosity,
+               p.element_dt,
+               p.nodal_dt,
+               {p.gas.gamma - 1.0, p.dt, p.tg_velocity == TgVelocity::relative,
+                p.moving_mesh_correction, p.mesh_moves},
+               p.dt,
+               {}};
+  if (!p.nodal_dt.empty() && p.element_dt.empty())
+    throw Error("assemble_residual: local stepping needs element and nodal steps");
+  for (int v = 0; v < num_variables; ++v) in.out[std::size_t(v)] = r.var[std::size_t(v)].data();
+  using Block = void (*)(const PassInput&, Index, Index);
+  Block block = pass_block_sse2;
+  switch (simd_path()) {
+    case SimdPath::sse2:
+      break;
+    case SimdPath::avx2:
+      block = pass_block_avx2;
+      break;
+    case SimdPath::avx2_fma:
+      block = pass_block_avx2_fma;
+      break;
+  }
+  for_each_block(loop, [&](Index first, Index last) { block(in, first, last); });
 }
 
 Vec3 face_area_vector(std::span<const Vec3> x, const BoundaryFace& f) {

@@ -5,6 +5,7 @@
 // a separate function applied to the faces the caller lists.
 #include <array>
 #include <span>
+#include <string_view>
 
 #include "shellflow/core/types.h"
 #include "shellflow/fluid/element_loop.h"
@@ -30,6 +31,22 @@ struct ResidualParameters {
   std::span<const double> nodal_dt;
 };
 
+
+/// Instruction set of the element pass. `sse2` (2 elements per instruction, the x86-64
+/// baseline) is the reference; `avx2` (4 elements) gives the same bits; `avx2_fma` adds fused
+/// multiply-adds, whose rounding differs from the reference in the last bits (a uniform
+/// state still gives exactly zero).
+enum class SimdPath { sse2, avx2, avx2_fma };
+
+/// The element pass's instruction set: set_simd_path's, else the environment variable
+/// SHELLFLOW_SIMD (auto, sse2, avx2, avx2-fma), else the best this CPU has. Throws InputError
+/// for an unknown name or a set the CPU lacks.
+SimdPath simd_path();
+void set_simd_path(SimdPath path);
+/// "sse2", "avx2", "avx2-fma".
+std::string_view to_string(SimdPath path);
+/// `name` as in SHELLFLOW_SIMD; `origin` names where it came from, for the error message.
+SimdPath parse_simd_path(std::string_view name, std::string_view origin);
 
 /// Sets r to the element-pass residual (all five rows): convective flux in group form,
 /// ALE mesh term, Taylor–Galerkin term with the full relative Jacobian (C1), its moving-mesh

@@ -56,6 +56,7 @@ void put_header(ArchiveWriter& out, const CheckpointHeader& h) {
   out.put(h.step);
   out.put(h.time);
   out.put(h.threads);
+  out.put(h.simd);
   out.put(static_cast<std::uint64_t>(h.digests.size()));
   for (const auto& d : h.digests) {
     out.put(d.name);
@@ -71,6 +72,7 @@ CheckpointHeader get_header(ArchiveReader& in) {
   h.step = in.get<long>();
   h.time = in.get<double>();
   h.threads = in.get<int>();
+  h.simd = in.get_string();
   const auto n = in.get<std::uint64_t>();
   if (n > in.remaining() / 16) throw Error(in.what() + ": damaged header (digest count)");
   for (std::uint64_t k = 0; k < n; ++k) {

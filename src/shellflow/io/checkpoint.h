@@ -7,7 +7,7 @@
 //   u64 header bytes, u64 payload bytes, u64 checksum (checksum64 of the payload, seeded with
 //                                            checksum64 of the header)
 //   header (core/archive.h): program version, build id, case name, step, time, threads,
-//          the case's section digests
+//          element-pass instruction set, the case's section digests
 //   payload: the run's state (the run driver's, the solvers', the output writers')
 //
 // A checkpoint is written to `<name>.tmp`, flushed to disk (fsync) and renamed, so a file
@@ -33,7 +33,7 @@ struct Mesh;
 
 namespace shellflow::io {
 
-inline constexpr std::uint32_t kCheckpointFormat = 1;
+inline constexpr std::uint32_t kCheckpointFormat = 2;  // 2: the instruction set in the header
 
 /// A named digest of one part of a run's input: a top-level section of the case file
 /// ("shell", "fluid", ...) or a mesh ("mesh fluid").
@@ -58,6 +58,7 @@ struct CheckpointHeader {
   long step = 0;
   double time = 0.0;
   int threads = 1;  ///< OpenMP threads of the run
+  std::string simd;  ///< the element pass's instruction set (fluid::SimdPath)
   std::vector<SectionDigest> digests;
 };
 
