@@ -262,56 +262,138 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
   far_normals_.assign(far_nodes_.size(), Vec3::Zero());
 }
 
-void BoundarySet::update_normals(std::span<const Vec3> x) {
-  auto& area = face_area_;
-  area.resize(faces_.size());
-  const auto nf = std::ptrdiff_t(faces_.size());
-#pragma omp parallel for schedule(static) if (std::size_t(nf) > boundary_parallel_threshold)
-  for (std::ptrdiff_t f = 0; f < nf; ++f)
-    area[std::size_t(f)] = face_area_vector(x, faces_[std::size_t(f)].face);
-  const double cos30 = std::sqrt(3.0) / 2.0;
-  const auto nw = std::ptrdiff_t(wall_nodes_.size());
-#pragma omp parallel for schedule(static) if (std::size_t(nw) > boundary_parallel_threshold)
-  for (std::ptrdiff_t si = 0; si < nw; ++si) {
-    const auto s = std::size_t(si);
-    // Cluster the adjacent face normals; each cluster is one wall direction. Symmetry
-    // faces come first, so the clusters they open come first.
-    std::array<Vec3, 8> clusters;
-    int nc = 0, nc_sym = 0;
-    for (Index k = wall_face_offsets_[s]; k < wall_face_offsets_[s + 1]; ++k) {
-      const Vec3& a = area[std::size_t(wall_faces_[std::size_t(k)])];
-      const Vec3 n = a.normalized();
+void BoundarySet::set_reference_facets(std::span<const Vec3> x) {
+  constexpr std::size_t max_facets = 62, max_facets_per_group = 8;
+  facets_.clear();
+  Vec3 lo = x.empty() ? Vec3::Zero() : x[0], hi = lo;
+  for (const Vec3& p : x) {
+    lo = lo.cwiseMin(p);
+    hi = hi.cwiseMax(p);
+  }
+  const double tolerance = 1e-12 * (hi - lo).norm();
+  std::vector<int> facet_of(faces_.size(), -1);
+  for (std::size_t c = 0; c < conditions_.size(); ++c) {
+    const std::size_t first = facets_.size();
+    for (std::size_t f = 0; f < faces_.size(); ++f) {
+      if (faces_[f].condition != int(c)) continue;
+      const auto& nodes = faces_[f].face.nodes;
+      const Vec3 n = face_area_vector(x, faces_[f].face).normalized();
+      if (!n.allFinite()) continue;
+      const double offset = n.dot(x[std::size_t(nodes[0])]);
       int found = -1;
-      for (int c = 0; c < nc && found < 0; ++c)
-        if (clusters[std::size_t(c)].normalized().dot(n) > cos30) found = c;
-      if (found >= 0) {
-        clusters[std::size_t(found)] += a;
-      } else if (nc < int(clusters.size())) {
-        clusters[std::size_t(nc++)] = a;
-        if (k - wall_face_offsets_[s] < wall_sym_faces_[s]) nc_sym = nc;
+      for (std::size_t k = first; k < facets_.size() && found < 0; ++k) {
+        const Facet& facet = facets_[k];
+        bool on = facet.normal.dot(n) > 0.5;
+        for (const Index a : nodes)
+          on = on && std::abs(facet.normal.dot(x[std::size_t(a)]) - facet.offset) <= facet.tolerance;
+        if (on) found = int(k);
       }
-    }
-    // Gram–Schmidt: the constrained subspace spanned by the distinct normals.
-    int m = 0, m_sym = 0;
-    auto& basis = wall_normals_[s];
-    for (int c = 0; c < nc && m < 3; ++c) {
-      Vec3 v = clusters[std::size_t(c)].normalized();
-      for (int i = 0; i < m; ++i) v -= v.dot(basis[std::size_t(i)]) * basis[std::size_t(i)];
-      const double len = v.norm();
-      if (len > 1e-6) {
-        basis[std::size_t(m++)] = v / len;
-        if (c < nc_sym) m_sym = m;
+      if (found < 0 && facets_.size() < max_facets && facets_.size() - first < max_facets_per_group) {
+        found = int(facets_.size());
+        facets_.push_back({n, offset, tolerance, {}});
       }
+      if (found < 0) continue;
+      facet_of[f] = found;
+      auto& facet_nodes = facets_[std::size_t(found)].nodes;
+      facet_nodes.insert(facet_nodes.end(), nodes.begin(), nodes.end());
     }
-    wall_num_normals_[s] = m;
-    wall_num_sym_normals_[s] = m_sym;
   }
-  for (std::size_t s = 0; s < far_nodes_.size(); ++s) {
-    Vec3 n = Vec3::Zero();
-    for (Index k = far_face_offsets_[s]; k < far_face_offsets_[s + 1]; ++k)
-      n += area[std::size_t(far_faces_[std::size_t(k)])];
-    far_normals_[s] = n.normalized();
+  for (Facet& facet : facets_) {
+    std::sort(facet.nodes.begin(), facet.nodes.end());
+    facet.nodes.erase(std::unique(facet.nodes.begin(), facet.nodes.end()), facet.nodes.end());
   }
+  const auto bits_of = [&](std::span<const Index> offsets, std::span<const Index> faces,
+                           std::vector<std::uint64_t>& out) {
+    out.assign(offsets.size() - 1, 0);
+    for (std::size_t s = 0; s + 1 < offsets.size(); ++s)
+      for (Index k = offsets[s]; k < offsets[s + 1]; ++k) {
+        const int facet = facet_of[std::size_t(faces[std::size_t(k)])];
+        out[s] |= std::uint64_t{1} << (facet < 0 ? 63 : facet);
+      }
+  };
+  bits_of(wall_face_offsets_, wall_faces_, wall_facets_);
+  bits_of(far_face_offsets_, far_faces_, far_facets_);
+  have_reference_ = true;
+}
+
+std::uint64_t BoundarySet::facets_off_their_planes(std::span<const Vec3> x) const {
+  std::uint64_t off = std::uint64_t{1} << 63;
+  for (std::size_t k = 0; k < facets_.size(); ++k) {
+    const Facet& facet = facets_[k];
+    const auto n = std::ptrdiff_t(facet.nodes.size());
+    bool on = true;
+#pragma omp parallel for schedule(static) reduction(&& : on) if (std::size_t(n) > 8 * boundary_parallel_threshold)
+    for (std::ptrdiff_t i = 0; i < n; ++i)
+      on = on && std::abs(facet.normal.dot(x[std::size_t(facet.nodes[std::size_t(i)])]) - facet.offset) <=
+                     facet.tolerance;
+    if (!on) off |= std::uint64_t{1} << k;
+  }
+  return off;
+}
+
+void BoundarySet::update_wall_node(std::size_t s, std::span<const Vec3> x) {
+  const double cos30 = std::sqrt(3.0) / 2.0;
+  // Cluster the adjacent face normals; each cluster is one wall direction. Symmetry
+  // faces come first, so the clusters they open come first.
+  std::array<Vec3, 8> clusters;
+  int nc = 0, nc_sym = 0;
+  for (Index k = wall_face_offsets_[s]; k < wall_face_offsets_[s + 1]; ++k) {
+    const Vec3 a = face_area_vector(x, faces_[std::size_t(wall_faces_[std::size_t(k)])].face);
+    const Vec3 n = a.normalized();
+    int found = -1;
+    for (int c = 0; c < nc && found < 0; ++c)
+      if (clusters[std::size_t(c)].normalized().dot(n) > cos30) found = c;
+    if (found >= 0) {
+      clusters[std::size_t(found)] += a;
+    } else if (nc < int(clusters.size())) {
+      clusters[std::size_t(nc++)] = a;
+      if (k - wall_face_offsets_[s] < wall_sym_faces_[s]) nc_sym = nc;
+    }
+  }
+  // Gram–Schmidt: the constrained subspace spanned by the distinct normals.
+  int m = 0, m_sym = 0;
+  auto& basis = wall_normals_[s];
+  for (int c = 0; c < nc && m < 3; ++c) {
+    Vec3 v = clusters[std::size_t(c)].normalized();
+    for (int i = 0; i < m; ++i) v -= v.dot(basis[std::size_t(i)]) * basis[std::size_t(i)];
+    const double len = v.norm();
+    if (len > 1e-6) {
+      basis[std::size_t(m++)] = v / len;
+      if (c < nc_sym) m_sym = m;
+    }
+  }
+  wall_num_normals_[s] = m;
+  wall_num_sym_normals_[s] = m_sym;
+}
+
+void BoundarySet::update_far_node(std::size_t s, std::span<const Vec3> x) {
+  Vec3 n = Vec3::Zero();
+  for (Index k = far_face_offsets_[s]; k < far_face_offsets_[s + 1]; ++k)
+    n += face_area_vector(x, faces_[std::size_t(far_faces_[std::size_t(k)])].face);
+  far_normals_[s] = n.normalized();
+}
+
+void BoundarySet::update_normals(std::span<const Vec3> x) {
+  // Normals at the reference are computed for every node; afterwards only for the nodes
+  // with a face in no facet or in a facet that left its reference plane. A face's area
+  // vector is formed by each node that needs it (no shared work array, no face pass).
+  const bool all = !have_reference_;
+  if (all) set_reference_facets(x);
+  const std::uint64_t off = all ? ~std::uint64_t{0} : facets_off_their_planes(x);
+  Index updated = 0;
+  const auto nw = std::ptrdiff_t(wall_nodes_.size());
+#pragma omp parallel for schedule(static) reduction(+ : updated) if (std::size_t(nw) > boundary_parallel_threshold)
+  for (std::ptrdiff_t si = 0; si < nw; ++si)
+    if (wall_facets_[std::size_t(si)] & off) {
+      update_wall_node(std::size_t(si), x);
+      ++updated;
+    }
+  for (std::size_t s = 0; s < far_nodes_.size(); ++s)
+    if (far_facets_[s] & off) {
+      update_far_node(s, x);
+      ++updated;
+    }
+  normals_updated_ = updated;
 }
 
 BoundaryFace BoundarySet::owner_of(Index a, Index b, Index c) const {

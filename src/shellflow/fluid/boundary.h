@@ -91,8 +91,14 @@ class BoundarySet {
   BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets, const IdealGas& gas,
               std::vector<BoundaryCondition> conditions);
 
-  /// Nodal normals and wall constraints on the configuration x.
+  /// Nodal normals and wall constraints on the configuration x. The first call also takes
+  /// x as the reference: the faces of a group that lie in one plane there (a facet) keep
+  /// their normals while the facet's nodes stay in that plane, and a node whose faces all
+  /// lie in such facets keeps its normals (symmetry planes along which the mesh slides, a
+  /// flat wall: no work per step).
   void update_normals(std::span<const Vec3> x);
+  /// Nodes whose normals the last update_normals computed (the rest were kept).
+  Index normals_updated() const { return normals_updated_; }
 
   /// Per-node wall velocities of the slip_wall or no_slip_wall group `group`, one per node
   /// of mesh.group(group).nodes in that (sorted) order. They replace the group's closure
@@ -176,7 +182,24 @@ class BoundarySet {
   std::vector<std::array<Vec3, 3>> wall_normals_;
   std::vector<int> wall_num_normals_;
   std::vector<int> wall_num_sym_normals_;
-  std::vector<Vec3> face_area_;  // work array of update_normals
+  // Planar facets (update_normals): the faces of a condition's group split by the plane
+  // they lie in at the reference configuration (up to 62 facets in all; faces beyond, and
+  // faces of curved groups, belong to none), each facet's nodes, the facet of every face
+  // (-1: none) and per wall/far-field node its faces' facets as bits (bit 63: a face of
+  // no facet: always recomputed).
+  struct Facet {
+    Vec3 normal = Vec3::Zero();
+    double offset = 0.0, tolerance = 0.0;
+    std::vector<Index> nodes;
+  };
+  void set_reference_facets(std::span<const Vec3> x);
+  std::uint64_t facets_off_their_planes(std::span<const Vec3> x) const;
+  void update_wall_node(std::size_t s, std::span<const Vec3> x);
+  void update_far_node(std::size_t s, std::span<const Vec3> x);
+  std::vector<Facet> facets_;
+  std::vector<std::uint64_t> wall_facets_, far_facets_;
+  bool have_reference_ = false;
+  Index normals_updated_ = 0;
   std::vector<Index> wall_slot_;  // node -> index in wall_nodes_, or -1
   // far-field nodes
   std::vector<Index> far_nodes_;
