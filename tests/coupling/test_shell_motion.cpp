@@ -57,6 +57,44 @@ TEST(ShellStepMotion, FollowsTheCubicHermiteOfTheStepExactly) {
   for (std::size_t i = 0; i < points.size(); ++i) EXPECT_LT((v[i] - (dp[i] - dm[i]) / (2 * h)).norm(), 1e-5 * v[i].norm() + 1e-9);
 }
 
+TEST(ShellStepMotion, TimeModesRecombineToTheWindowAndANewWindowHasANewId) {
+  const shell::ShellModel model = coupling_test::panel_model(coupling_test::strip());
+  std::mt19937 rng(9);
+  const Index nd = model.num_dofs();
+  const Eigen::VectorXd u0 = random_field(nd, rng), v0 = random_field(nd, rng) * 100.0,
+                        u1 = random_field(nd, rng), v1 = random_field(nd, rng) * 100.0;
+  ShellStepMotion motion(model, 1e-6);
+  const std::vector<shell::ShellPoint> points = {{0, Vec2(0.2, 0.3)}, {7, Vec2(0.0, 0.0)}, {39, Vec2(0.5, 0.5)}};
+  const int handle = motion.register_shell_points(points);
+  ASSERT_EQ(motion.num_time_modes(), 4);
+  const std::uint64_t at_rest = motion.window_id();
+  for (const bool window : {true, false}) {
+    if (window)
+      motion.set_window(0.01, 1e-4, u0, v0, u1, v1);
+    else
+      motion.set_state(0.02, u1, v1);  // a window of zero length
+    EXPECT_NE(motion.window_id(), at_rest);
+    std::vector<std::vector<Vec3>> f(4, std::vector<Vec3>(points.size()));
+    for (int k = 0; k < 4; ++k) motion.evaluate_time_mode(handle, k, f[std::size_t(k)]);
+    for (const double tau : {0.0, 0.3, 1.0}) {
+      const double t = window ? 0.01 + tau * 1e-4 : 0.02;
+      double c[4], dc[4];
+      motion.time_coefficients(t, c, dc);
+      std::vector<Vec3> d(points.size()), v(points.size());
+      motion.evaluate(handle, t, d, v);
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        Vec3 dm = Vec3::Zero(), vm = Vec3::Zero();
+        for (std::size_t k = 0; k < 4; ++k) {
+          dm += c[k] * f[k][i];
+          vm += dc[k] * f[k][i];
+        }
+        EXPECT_LT((dm - d[i]).norm(), 1e-18) << "window " << window << " tau " << tau;
+        EXPECT_LT((vm - v[i]).norm(), 1e-15) << "window " << window << " tau " << tau;
+      }
+    }
+  }
+}
+
 TEST(ShellStepMotion, RefusesPointsOffTheShell) {
   const shell::ShellModel model = coupling_test::panel_model(coupling_test::strip());
   ShellStepMotion motion(model, 1e-6);

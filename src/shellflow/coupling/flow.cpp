@@ -76,7 +76,9 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
     for (int m = 1; m <= n; ++m) {
       const double t = m == n ? t_end : t0 + dt * (static_cast<double>(m) / n);
       const auto c1 = Clock::now();
-      mover_->update(t, x_, w_);
+      // With w = Δx/Δt the mover's velocities are not needed: positions only.
+      const bool positions_only = flow_ && !options_.interpolated_mesh_velocity;
+      mover_->update(t, x_, positions_only ? std::span<Vec3>{} : std::span<Vec3>(w_));
       if (flow_) {
         motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
         flow_->set_wall_velocity(wall_.group, wall_velocity_);
@@ -101,6 +103,11 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
           }
       }
       time_ = t;
+    }
+    // The mesh velocity of the run is the one the flow took.
+    if (flow_ && !options_.interpolated_mesh_velocity && n > 0) {
+      const auto w = flow_->mesh_velocity();
+      w_.assign(w.begin(), w.end());
     }
   } catch (const SolverError&) {
     if (flow_) flow_->restore(*start);

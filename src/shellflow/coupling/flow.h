@@ -58,7 +58,10 @@ class FlowModel final : public AerodynamicModel {
   const fluid::FluidModel* flow() const { return flow_.get(); }
   fluid::FluidModel* flow() { return flow_.get(); }
   const motion::FluidMeshMover& mover() const { return *mover_; }
+  motion::FluidMeshMover& mover() { return *mover_; }
   std::span<const Vec3> positions() const { return x_; }
+  /// Mesh velocity: with a flow and w = Δx/Δt, that of the flow's last sub-step (the mover
+  /// then moves positions only); else the mover's (interpolated) velocity.
   std::span<const Vec3> mesh_velocity() const { return w_; }
   const mesh::Mesh& mesh() const { return mesh_; }
   const WallNodeMap& wall_map() const { return wall_; }

@@ -29,6 +29,7 @@ void ShellStepMotion::set_window(double t0, double dt, const Eigen::VectorXd& u0
                                  const Eigen::VectorXd& v1) {
   t0_ = t0;
   dt_ = dt;
+  ++window_id_;
   nodal_positions(u0, x0_);
   nodal_positions(v0, v0_);
   nodal_positions(u1, x1_);
@@ -73,6 +74,52 @@ int ShellStepMotion::register_shell_points(std::span<const shell::ShellPoint> po
   return static_cast<int>(sets_.size()) - 1;
 }
 
+void ShellStepMotion::time_coefficients(double time, std::span<double> c, std::span<double> dc) const {
+  if (c.size() < 4 || dc.size() < 4)
+    throw Error(fmt::format("ShellStepMotion::time_coefficients: spans of {} and {} for 4 modes", c.size(), dc.size()));
+  if (dt_ == 0.0) {  // at rest in state (x0, v0)
+    c[0] = 1.0, c[1] = 0.0, c[2] = 0.0, c[3] = 0.0;
+    dc[0] = 0.0, dc[1] = 1.0, dc[2] = 0.0, dc[3] = 0.0;
+    return;
+  }
+  // Hermite basis on tau in [0, 1]: x(tau) = h00 x0 + h10 dt v0 + h01 x1 + h11 dt v1.
+  const double tau = std::clamp((time - t0_) / dt_, 0.0, 1.0);
+  const double t2 = tau * tau, t3 = t2 * tau;
+  c[0] = 2 * t3 - 3 * t2 + 1;
+  c[1] = (t3 - 2 * t2 + tau) * dt_;
+  c[2] = -2 * t3 + 3 * t2;
+  c[3] = (t3 - t2) * dt_;
+  // d/dt = (1/dt) d/dtau.
+  dc[0] = (6 * t2 - 6 * tau) / dt_;
+  dc[1] = 3 * t2 - 4 * tau + 1;
+  dc[2] = -dc[0];
+  dc[3] = 3 * t2 - 2 * tau;
+}
+
+const std::vector<Vec3>& ShellStepMotion::mode_field(int k) const {
+  switch (k) {
+    case 0: return x0_;
+    case 1: return v0_;
+    case 2: return x1_;
+    case 3: return v1_;
+  }
+  throw Error(fmt::format("ShellStepMotion: no time mode {} (4 modes)", k));
+}
+
+void ShellStepMotion::evaluate_time_mode(int handle, int k, std::span<Vec3> field) const {
+  const PointSet& set = sets_.at(static_cast<std::size_t>(handle));
+  const auto n = static_cast<std::size_t>(nodes_per_element_);
+  const std::size_t count = set.nodes.size() / n;
+  if (field.size() != count)
+    throw Error(fmt::format("ShellStepMotion::evaluate_time_mode: {} points, output span of {}", count, field.size()));
+  const std::vector<Vec3>& nodal = mode_field(k);
+  for (std::size_t i = 0; i < count; ++i) {
+    Vec3 f = Vec3::Zero();
+    for (std::size_t a = 0; a < n; ++a) f += set.phi[n * i + a] * nodal[static_cast<std::size_t>(set.nodes[n * i + a])];
+    field[i] = f;
+  }
+}
+
 void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displacement,
                                std::span<Vec3> velocity) const {
   const PointSet& set = sets_.at(static_cast<std::size_t>(handle));
@@ -81,14 +128,8 @@ void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displace
   if (displacement.size() != count || velocity.size() != count)
     throw Error(fmt::format("ShellStepMotion::evaluate: {} points, output spans of {} and {}", count,
                             displacement.size(), velocity.size()));
-  // Hermite basis on tau in [0, 1]: x(tau) = h00 x0 + h10 dt v0 + h01 x1 + h11 dt v1.
-  const double tau = dt_ > 0.0 ? std::clamp((time - t0_) / dt_, 0.0, 1.0) : 0.0;
-  const double t2 = tau * tau, t3 = t2 * tau;
-  const double h00 = 2 * t3 - 3 * t2 + 1, h10 = t3 - 2 * t2 + tau, h01 = -2 * t3 + 3 * t2, h11 = t3 - t2;
-  // d/dt = (1/dt) d/dtau.
-  const double g00 = dt_ > 0.0 ? (6 * t2 - 6 * tau) / dt_ : 0.0, g10 = 3 * t2 - 4 * tau + 1,
-               g01 = -g00, g11 = 3 * t2 - 2 * tau;
-  const double d10 = h10 * dt_, d11 = h11 * dt_;
+  double c[4], dc[4];
+  time_coefficients(time, c, dc);
   const bool at_rest_window = dt_ == 0.0;
   for (std::size_t i = 0; i < count; ++i) {
     Vec3 x0 = Vec3::Zero(), v0 = Vec3::Zero(), x1 = Vec3::Zero(), v1 = Vec3::Zero();
@@ -104,8 +145,8 @@ void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displace
       displacement[i] = x0;
       velocity[i] = v0;
     } else {
-      displacement[i] = h00 * x0 + d10 * v0 + h01 * x1 + d11 * v1;
-      velocity[i] = g00 * x0 + g10 * v0 + g01 * x1 + g11 * v1;
+      displacement[i] = c[0] * x0 + c[1] * v0 + c[2] * x1 + c[3] * v1;
+      velocity[i] = dc[0] * x0 + dc[1] * v0 + dc[2] * x1 + dc[3] * v1;
     }
   }
 }

@@ -35,6 +35,14 @@ class ShellStepMotion final : public motion::BoundaryMotion {
   void evaluate(int handle, double time, std::span<Vec3> displacement,
                 std::span<Vec3> velocity) const override;
 
+  /// The Hermite window as 4 time modes: the interpolated x0, v0, x1, v1 of the points, with
+  /// coefficients h00, dt h10, h01, dt h11 (and their time derivatives); a window of zero
+  /// length: (1, 0, 0, 0) and (0, 1, 0, 0).
+  int num_time_modes() const override { return 4; }
+  std::uint64_t window_id() const override { return window_id_; }
+  void evaluate_time_mode(int handle, int k, std::span<Vec3> field) const override;
+  void time_coefficients(double time, std::span<double> c, std::span<double> dc) const override;
+
   double window_start() const { return t0_; }
   double window_length() const { return dt_; }
 
@@ -47,7 +55,10 @@ class ShellStepMotion final : public motion::BoundaryMotion {
   double max_gap_;
   int nodes_per_element_;
   std::vector<PointSet> sets_;
+  /// The nodal field of time mode k.
+  const std::vector<Vec3>& mode_field(int k) const;
   double t0_ = 0.0, dt_ = 0.0;
+  std::uint64_t window_id_ = 0;
   // Nodal mid-surface displacement and velocity at both ends of the window.
   std::vector<Vec3> x0_, v0_, x1_, v1_;
 };

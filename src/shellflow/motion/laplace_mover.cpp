@@ -166,7 +166,11 @@ void LaplaceMover::solve(Component& c, const Eigen::VectorXd& boundary, Eigen::V
   last_error_ = std::max(last_error_, c.solver.error());
 }
 
-void LaplaceMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
+void LaplaceMover::update(double time, std::span<Vec3> x, std::span<Vec3> w_out) {
+  // The velocity is solved for also when it is not wanted: it is the warm start's
+  // extrapolation of the next displacement solve.
+  w_scratch_.resize(x.size());
+  const std::span<Vec3> w = w_out.empty() ? std::span<Vec3>(w_scratch_) : w_out;
   motion_.evaluate(handle_, time, iu_, iv_);
   const auto& X = fluid_.nodes;
   last_iterations_ = 0;

@@ -75,6 +75,7 @@ class LaplaceMover final : public FluidMeshMover {
   std::array<Component, 3> components_;
   int handle_ = -1;
   std::vector<Vec3> iu_, iv_;
+  std::vector<Vec3> w_scratch_;  // the velocities of an update that asks for positions only
   int updates_ = 0;                      ///< updates done so far
   double t_last_ = 0.0, t_older_ = 0.0;  ///< times of the last two updates
   int last_iterations_ = 0;

@@ -79,7 +79,61 @@ SpaceMeshMover::SpaceMeshMover(const mesh::Mesh& fluid, const mesh::Mesh& space,
   fv_.resize(fluid_interface_.size());
 }
 
+void SpaceMeshMover::move_time_modes() {
+  // The space mesh, its interpolation and the exact wall placement are linear in the
+  // boundary motion: each time mode is moved once per window.
+  const int k_modes = motion_.num_time_modes();
+  modes_.modes = k_modes;
+  modes_.space.resize(std::size_t(k_modes));
+  modes_.fluid.resize(std::size_t(k_modes));
+  std::fill(iv_.begin(), iv_.end(), Vec3::Zero());
+  std::fill(sv_.begin(), sv_.end(), Vec3::Zero());
+  for (int k = 0; k < k_modes; ++k) {
+    motion_.evaluate_time_mode(space_handle_, k, iu_);
+    motion_.evaluate_time_mode(sample_handle_, k, su_);
+    space_.move(iu_, iv_, su_, sv_);
+    const auto u = space_.displacement();
+    modes_.space[std::size_t(k)].assign(u.begin(), u.end());
+    auto& fluid = modes_.fluid[std::size_t(k)];
+    fluid.resize(fluid_initial_.size());
+    space_.interpolate_displacement(fluid);
+    motion_.evaluate_time_mode(fluid_handle_, k, fu_);
+    for (std::size_t i = 0; i < fluid_interface_.size(); ++i) fluid[std::size_t(fluid_interface_[i])] = fu_[i];
+  }
+  modes_.window = motion_.window_id();
+}
+
 void SpaceMeshMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
+  if (motion_.num_time_modes() > 0 && motion_.num_time_modes() <= BoundaryMotion::max_time_modes) {
+    if (modes_.modes != motion_.num_time_modes() || modes_.window != motion_.window_id()) move_time_modes();
+    const auto k_modes = std::size_t(modes_.modes);
+    std::array<double, BoundaryMotion::max_time_modes> c{}, dc{};
+    motion_.time_coefficients(time, std::span(c).first(k_modes), std::span(dc).first(k_modes));
+    // The space mesh's own nodes (its frames and the Jacobian check).
+    const std::size_t ns = modes_.space[0].size();
+    space_u_.assign(ns, Vec3::Zero());
+    space_v_.assign(ns, Vec3::Zero());
+    for (std::size_t k = 0; k < k_modes; ++k)
+      for (std::size_t i = 0; i < ns; ++i) {
+        space_u_[i] += c[k] * modes_.space[k][i];
+        space_v_[i] += dc[k] * modes_.space[k][i];
+      }
+    space_.set_node_motion(space_u_, space_v_);
+    const bool velocities = !w.empty();
+    const auto n = std::ptrdiff_t(fluid_initial_.size());
+#pragma omp parallel for schedule(static) if (n > 4096)  // ~100 k multiply-adds
+    for (std::ptrdiff_t p = 0; p < n; ++p) {
+      const auto i = std::size_t(p);
+      Vec3 u = Vec3::Zero(), v = Vec3::Zero();
+      for (std::size_t k = 0; k < k_modes; ++k) {
+        u += c[k] * modes_.fluid[k][i];
+        if (velocities) v += dc[k] * modes_.fluid[k][i];
+      }
+      x[i] = fluid_initial_[i] + u;
+      if (velocities) w[i] = v;
+    }
+    return;
+  }
   motion_.evaluate(space_handle_, time, iu_, iv_);
   motion_.evaluate(sample_handle_, time, su_, sv_);
   space_.move(iu_, iv_, su_, sv_);
@@ -89,7 +143,7 @@ void SpaceMeshMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
   for (std::size_t i = 0; i < fluid_interface_.size(); ++i) {
     const auto node = static_cast<std::size_t>(fluid_interface_[i]);
     x[node] = fluid_initial_[node] + fu_[i];
-    w[node] = fv_[i];
+    if (!w.empty()) w[node] = fv_[i];
   }
 }
 
@@ -97,8 +151,11 @@ std::size_t SpaceMeshMover::memory_bytes() const {
   // Locations (element + 20 shape values per fluid node) and the IDW weight rows.
   const std::size_t idw_rows = space_.mesh().nodes.size() - space_.interface_nodes().size() -
                                space_.fixed_nodes().size();
+  std::size_t mode_bytes = 0;
+  for (std::size_t k = 0; k < modes_.space.size(); ++k)
+    mode_bytes += (modes_.space[k].size() + modes_.fluid[k].size()) * sizeof(Vec3);
   return space_.locations().size() * sizeof(NodeLocation) +
-         idw_rows * (su_.size() + space_.fixed_nodes().size()) * sizeof(double);
+         idw_rows * (su_.size() + space_.fixed_nodes().size()) * sizeof(double) + mode_bytes;
 }
 
 // ---------------------------------------------------------------- DirectIdwMover
@@ -135,11 +192,11 @@ void DirectIdwMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
   for (std::size_t i = 0; i < boundary_.interface_nodes.size(); ++i) {
     const auto node = static_cast<std::size_t>(boundary_.interface_nodes[i]);
     x[node] = X[node] + iu_[i];
-    w[node] = iv_[i];
+    if (!w.empty()) w[node] = iv_[i];
   }
   for (Index node : boundary_.fixed_nodes) {
     x[static_cast<std::size_t>(node)] = X[static_cast<std::size_t>(node)];
-    w[static_cast<std::size_t>(node)] = Vec3::Zero();
+    if (!w.empty()) w[static_cast<std::size_t>(node)] = Vec3::Zero();
   }
   const auto n = static_cast<std::ptrdiff_t>(free_nodes_.size());
 #pragma omp parallel for schedule(static)
@@ -161,7 +218,7 @@ void DirectIdwMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
     }
     const auto& normals = free_normals_[static_cast<std::size_t>(f)];
     x[node] = p + project_on_sliding_planes(u / sum, normals);
-    w[node] = project_on_sliding_planes(v / sum, normals);
+    if (!w.empty()) w[node] = project_on_sliding_planes(v / sum, normals);
   }
 }
 

@@ -26,7 +26,8 @@ struct BoundaryGroups {
 class FluidMeshMover {
  public:
   virtual ~FluidMeshMover() = default;
-  /// Fluid node positions x and mesh velocities w at time t.
+  /// Fluid node positions x and mesh velocities w at time t; w empty: positions only (the
+  /// flow takes w = Δx/Δt; the space mesh then interpolates half the data).
   virtual void update(double time, std::span<Vec3> x, std::span<Vec3> w) = 0;
   virtual std::string name() const = 0;
   /// Bytes of the mover's own data (weights, locations, matrices).
@@ -64,12 +65,22 @@ class SpaceMeshMover final : public FluidMeshMover {
   const LocationReport& location_report() const { return report_; }
 
  private:
+  /// The motion's time modes moved through the space mesh (BoundaryMotion::num_time_modes):
+  /// per mode the space-mesh node displacements and the fluid node displacements, for the
+  /// window `window`.
+  struct ModeFields {
+    std::uint64_t window = 0;
+    int modes = 0;
+    std::vector<std::vector<Vec3>> space, fluid;
+  };
+  void move_time_modes();
   SpaceMesh space_;
   BoundaryMotion& motion_;
+  ModeFields modes_;
   LocationReport report_;
   std::vector<Index> fluid_interface_;
   int space_handle_ = -1, sample_handle_ = -1, fluid_handle_ = -1;
-  std::vector<Vec3> iu_, iv_, su_, sv_, fu_, fv_;  // work arrays
+  std::vector<Vec3> iu_, iv_, su_, sv_, fu_, fv_, space_u_, space_v_;  // work arrays
   std::vector<Vec3> fluid_initial_;
 };
 

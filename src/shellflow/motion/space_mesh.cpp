@@ -17,6 +17,10 @@ namespace {
 using fem::Tet20;
 constexpr int kNodes = Tet20::num_nodes;
 
+/// Per-step loops with less work than this (multiply-adds) run on one thread: starting the
+/// team costs more than it saves (and much more on a loaded machine).
+constexpr std::ptrdiff_t parallel_work_threshold = 100000;
+
 /// Nodes of element e, gathered.
 std::array<Vec3, kNodes> element_nodes(const mesh::Mesh& m, std::span<const Vec3> x, Index e) {
   std::array<Vec3, kNodes> X;
@@ -321,7 +325,7 @@ void SpaceMesh::move(std::span<const Vec3> interface_u, std::span<const Vec3> in
   }
   const std::size_t ns = sample_u.size(), nf = fixed_nodes_.size();
   const auto rows = static_cast<std::ptrdiff_t>(idw_nodes_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (rows * std::ptrdiff_t(2 * ns + nf) > parallel_work_threshold)
   for (std::ptrdiff_t row = 0; row < rows; ++row) {
     const auto r = static_cast<std::size_t>(row);
     const double* a = sample_weights_.data() + r * ns;
@@ -353,40 +357,68 @@ void SpaceMesh::set_node_motion(std::span<const Vec3> u, std::span<const Vec3> v
   std::copy(v.begin(), v.end(), velocity_.begin());
 }
 
+namespace {
+
+/// x = X + sum_k N_k u_k (initial empty: x = sum_k N_k u_k) and, with R = 6,
+/// w = sum_k N_k v_k, from records of R doubles per space-mesh node ((u) or (u, v)).
+template <int R>
+void interpolate_records(const double* records, const Index* connectivity,
+                         std::span<const NodeLocation> locations, std::span<const Vec3> initial,
+                         std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) {
+  const auto n = static_cast<std::ptrdiff_t>(locations.size());
+#pragma omp parallel for schedule(static) if (n * kNodes * R > parallel_work_threshold)
+  for (std::ptrdiff_t p = 0; p < n; ++p) {
+    const NodeLocation& loc = locations[static_cast<std::size_t>(p)];
+    const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
+    double acc[R] = {};
+    for (int a = 0; a < kNodes; ++a) {
+      const double* r = records + R * static_cast<std::ptrdiff_t>(nodes[a]);
+      const double N = loc.shape[static_cast<std::size_t>(a)];
+      for (int i = 0; i < R; ++i) acc[i] += N * r[i];
+    }
+    if (initial.empty()) {
+      fluid_x[static_cast<std::size_t>(p)] = Vec3(acc[0], acc[1], acc[2]);
+    } else {
+      const Vec3& X = initial[static_cast<std::size_t>(p)];
+      fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
+    }
+    if constexpr (R == 6) fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
+  }
+}
+
+}  // namespace
+
 void SpaceMesh::interpolate(std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) const {
   // x = X + sum_k N_k u_k rather than the paper's sum_k N_k x_k (eq. 31): equal in exact
   // arithmetic, but this way an unmoved mesh returns every fluid node at exactly its
   // initial position (also a node projected from just outside), and a uniform translation
   // moves every node by exactly that translation.
   //
-  // The space mesh is small (~1 000 nodes): pack (u, v) of each of its nodes into one
-  // 6-double record first, so the per-fluid-node loop gathers 20 contiguous records and
-  // runs 6 independent multiply-add chains.
-  motion_records_.resize(6 * displacement_.size());
+  // The space mesh is small (~1 000 nodes): pack u (and v) of each of its nodes into one
+  // record first, so the per-fluid-node loop gathers 20 contiguous records and runs 3 (6)
+  // independent multiply-add chains. fluid_w empty: positions only.
+  const bool velocities = !fluid_w.empty();
+  const int r = velocities ? 6 : 3;
+  motion_records_.resize(std::size_t(r) * displacement_.size());
   for (std::size_t k = 0; k < displacement_.size(); ++k) {
-    double* r = motion_records_.data() + 6 * k;
+    double* rec = motion_records_.data() + std::size_t(r) * k;
     for (int i = 0; i < 3; ++i) {
-      r[i] = displacement_[k][i];
-      r[3 + i] = velocity_[k][i];
+      rec[i] = displacement_[k][i];
+      if (velocities) rec[3 + i] = velocity_[k][i];
     }
   }
-  const double* records = motion_records_.data();
   const Index* connectivity = mesh_.cells.connectivity.data();
-  const auto n = static_cast<std::ptrdiff_t>(locations_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t p = 0; p < n; ++p) {
-    const NodeLocation& loc = locations_[static_cast<std::size_t>(p)];
-    const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
-    double acc[6] = {0, 0, 0, 0, 0, 0};
-    for (int a = 0; a < kNodes; ++a) {
-      const double* r = records + 6 * static_cast<std::ptrdiff_t>(nodes[a]);
-      const double N = loc.shape[static_cast<std::size_t>(a)];
-      for (int i = 0; i < 6; ++i) acc[i] += N * r[i];
-    }
-    const Vec3& X = fluid_initial_[static_cast<std::size_t>(p)];
-    fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
-    fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
-  }
+  if (velocities)
+    interpolate_records<6>(motion_records_.data(), connectivity, locations_, fluid_initial_, fluid_x, fluid_w);
+  else
+    interpolate_records<3>(motion_records_.data(), connectivity, locations_, fluid_initial_, fluid_x, fluid_w);
+}
+
+void SpaceMesh::interpolate_displacement(std::span<Vec3> fluid_u) const {
+  motion_records_.resize(3 * displacement_.size());
+  for (std::size_t k = 0; k < displacement_.size(); ++k)
+    for (int i = 0; i < 3; ++i) motion_records_[3 * k + std::size_t(i)] = displacement_[k][i];
+  interpolate_records<3>(motion_records_.data(), mesh_.cells.connectivity.data(), locations_, {}, fluid_u, {});
 }
 
 std::vector<Vec3> SpaceMesh::current_positions() const {

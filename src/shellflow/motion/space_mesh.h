@@ -105,6 +105,8 @@ class SpaceMesh {
   /// Fluid node positions and mesh velocities from the space mesh (eq. 31-32, written for
   /// the displacement: x = X + sum_k N_k(xi) u_k, w = sum_k N_k(xi) v_k).
   void interpolate(std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) const;
+  /// The fluid nodes' displacements sum_k N_k(xi) u_k alone.
+  void interpolate_displacement(std::span<Vec3> fluid_u) const;
 
   const mesh::Mesh& mesh() const { return mesh_; }
   std::span<const NodeClass> node_classes() const { return classes_; }
