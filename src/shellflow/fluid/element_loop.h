@@ -10,6 +10,9 @@ namespace shellflow::fluid {
 /// Loops over fewer items than this run on one thread: thread start-up and barriers cost
 /// more than they save on small meshes (and much more on a loaded machine).
 inline constexpr Index parallel_threshold = 20000;
+/// The same for loops over nodes: a tetrahedral mesh has 3–6 times as many elements as
+/// nodes, so a mesh whose element loops run in parallel runs its node loops so too.
+inline constexpr Index node_parallel_threshold = parallel_threshold / 4;
 
 struct ElementLoop {
   std::span<const Index> tets;            ///< 4 nodes per element, in block order

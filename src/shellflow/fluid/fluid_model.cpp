@@ -208,7 +208,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   w_next_.resize(std::size_t(nn));
   auto& w_step = w_next_;
   bool mesh_moves = false;
-#pragma omp parallel for schedule(static) reduction(|| : mesh_moves) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) reduction(|| : mesh_moves) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) {
     const auto i = std::size_t(a);
     const Vec3 v = !w.empty() ? w[i] : Vec3((x_next[i] - x_[i]) / dt);
@@ -249,7 +249,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
       const auto& u = state_.var[std::size_t(v)];
       const auto& d = increment_.var[std::size_t(v)];
       auto& out = next_state_.var[std::size_t(v)];
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
       for (Index a = 0; a < nn; ++a) out[std::size_t(a)] = u[std::size_t(a)] + d[std::size_t(a)];
     }
   } else {
@@ -257,7 +257,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
       const auto& u = state_.var[std::size_t(v)];
       const auto& r = residual_.var[std::size_t(v)];
       auto& out = next_state_.var[std::size_t(v)];
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
       for (Index a = 0; a < nn; ++a) out[std::size_t(a)] = u[std::size_t(a)] + r[std::size_t(a)] / m[std::size_t(a)];
     }
   }
@@ -284,7 +284,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   constexpr Index chunk = 4096;
   const Index num_chunks = (nn + chunk - 1) / chunk;
   rate_sums_.resize(std::size_t(num_chunks));
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index b = 0; b < num_chunks; ++b) {
     double sum = 0.0;
     for (Index a = b * chunk; a < std::min(nn, (b + 1) * chunk); ++a) {
@@ -313,7 +313,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
 void FluidModel::check_positivity(const FluidState& u, double t) const {
   const Index nn = u.size();
   Index bad = -1;
-#pragma omp parallel for schedule(static) reduction(max : bad) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) reduction(max : bad) if (nn > node_parallel_threshold)
   for (Index a = nn - 1; a >= 0; --a) {
     const auto i = std::size_t(a);
     const double rho = u.var[0][i];

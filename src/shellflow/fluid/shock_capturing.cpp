@@ -20,7 +20,7 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
   work.speed.resize(std::size_t(nn));
   for (auto& gr : work.gradient) gr.assign(std::size_t(nn), 0.0);
   // Nodal p and |u| + c once per node (a node is shared by ~24 tetrahedra).
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) {
     const auto i = std::size_t(a);
     const double rho = u.var[0][i];
@@ -45,7 +45,7 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     for (int a = 0; a < 4; ++a)
       for (int j = 0; j < 3; ++j) work.gradient[std::size_t(j)][std::size_t(n[a])] += quarter * gp[j];
   });
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) {
     const double inv_mass = 1.0 / g.lumped_mass[std::size_t(a)];
     for (int j = 0; j < 3; ++j) work.gradient[std::size_t(j)][std::size_t(a)] *= inv_mass;
@@ -86,7 +86,7 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     const Index* n = tets.data() + 4 * ue;
     for (int a = 0; a < 4; ++a) nodal[n[a]] += vn;
   });
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) nodal[a] /= 4.0 * g.lumped_mass[std::size_t(a)];
 #pragma omp parallel for schedule(static) if (ne > parallel_threshold)
   for (Index e = 0; e < ne; ++e) {

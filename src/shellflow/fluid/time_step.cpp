@@ -17,7 +17,7 @@ double min_element_time_step(const IdealGas& gas, std::span<const Index> tets,
   // than per element corner).
   const Index nn = u.size();
   nodal.resize(std::size_t(nn));
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) {
     const auto i = std::size_t(a);
     const double rho = u.var[0][i];

@@ -113,7 +113,7 @@ void add_viscous_residual(const IdealGas& gas, double dt, std::span<const double
   const Index nn = u.size();
   q.resize(std::size_t(nn));
   const double gm1 = gas.gamma - 1.0, inv_r = 1.0 / gas.gas_constant;
-#pragma omp parallel for schedule(static) if (nn > parallel_threshold)
+#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) q[std::size_t(a)] = velocity_temperature(gm1, inv_r, u, std::size_t(a));
   const bool local = !nodal_dt.empty();
   std::array<double*, num_variables> out{};
