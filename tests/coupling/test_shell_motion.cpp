@@ -17,17 +17,31 @@ Eigen::VectorXd random_field(Index n, std::mt19937& rng) {
   return v;
 }
 
+/// The strip's shell model and a random window: states (u0, v0) and (u1, v1), displacements
+/// of order 1e-3 m, velocities of order 0.1 m/s.
+struct RandomWindow {
+  shell::ShellModel model = coupling_test::panel_model(coupling_test::strip());
+  std::mt19937 rng;
+  Eigen::VectorXd u0, v0, u1, v1;
+  explicit RandomWindow(unsigned seed) : rng(seed) {
+    const Index nd = model.num_dofs();
+    u0 = random_field(nd, rng);
+    v0 = random_field(nd, rng) * 100.0;
+    u1 = random_field(nd, rng);
+    v1 = random_field(nd, rng) * 100.0;
+  }
+};
+
+const std::vector<shell::ShellPoint> some_points = {{0, Vec2(0.2, 0.3)}, {7, Vec2(0.0, 0.0)}, {39, Vec2(0.5, 0.5)}};
+
 TEST(ShellStepMotion, FollowsTheCubicHermiteOfTheStepExactly) {
-  const shell::ShellModel model = coupling_test::panel_model(coupling_test::strip());
-  std::mt19937 rng(7);
-  const Index nd = model.num_dofs();
-  const Eigen::VectorXd u0 = random_field(nd, rng), v0 = random_field(nd, rng) * 100.0,
-                        u1 = random_field(nd, rng), v1 = random_field(nd, rng) * 100.0;
+  const RandomWindow r(7);
+  const auto& [model, rng, u0, v0, u1, v1] = r;
   // The window as the driver sets it: its length is the difference of the stored end times,
   // so that t1 maps to tau = 1 exactly.
   const double t0 = 0.01, t1 = t0 + 1e-4, dt = t1 - t0;
   ShellStepMotion motion(model, 1e-6);
-  const std::vector<shell::ShellPoint> points = {{0, Vec2(0.2, 0.3)}, {7, Vec2(0.0, 0.0)}, {39, Vec2(0.5, 0.5)}};
+  const auto& points = some_points;
   const int handle = motion.register_shell_points(points);
   motion.set_window(t0, dt, u0, v0, u1, v1);
   std::vector<Vec3> d(points.size()), v(points.size());
@@ -58,13 +72,10 @@ TEST(ShellStepMotion, FollowsTheCubicHermiteOfTheStepExactly) {
 }
 
 TEST(ShellStepMotion, TimeModesRecombineToTheWindowAndANewWindowHasANewId) {
-  const shell::ShellModel model = coupling_test::panel_model(coupling_test::strip());
-  std::mt19937 rng(9);
-  const Index nd = model.num_dofs();
-  const Eigen::VectorXd u0 = random_field(nd, rng), v0 = random_field(nd, rng) * 100.0,
-                        u1 = random_field(nd, rng), v1 = random_field(nd, rng) * 100.0;
+  const RandomWindow r(9);
+  const auto& [model, rng, u0, v0, u1, v1] = r;
   ShellStepMotion motion(model, 1e-6);
-  const std::vector<shell::ShellPoint> points = {{0, Vec2(0.2, 0.3)}, {7, Vec2(0.0, 0.0)}, {39, Vec2(0.5, 0.5)}};
+  const auto& points = some_points;
   const int handle = motion.register_shell_points(points);
   ASSERT_EQ(motion.num_time_modes(), 4);
   const std::uint64_t at_rest = motion.window_id();
