@@ -2,6 +2,7 @@
 // errors, positivity and inversion errors that leave the last valid state.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "fluid_test_util.h"
@@ -275,4 +276,48 @@ TEST(BoundaryConditions, ConsistentMassSweepsKeepTheNoSlipIncrements) {
       EXPECT_EQ(dq.momentum, Vec3(0.3, -0.2, 0.1));
     }
   }
+}
+
+TEST(BoundaryNormals, AreRecomputedWhereTheirFacetsLeaveThePlaneAndRestoredWhenTheyComeBack) {
+  const mesh::Mesh cube = test_support::case_mesh("unit_cube.geo");
+  const IdealGas gas;
+  const std::vector<BoundaryCondition> slip = {{"boundary", BoundaryKind::slip_wall, {}, {}}};
+  const auto constraints = [&](const BoundarySet& b) {
+    std::vector<std::vector<Vec3>> c(cube.nodes.size());
+    for (Index a = 0; a < cube.num_nodes(); ++a) {
+      const auto n = b.wall_constraints(a);
+      c[std::size_t(a)].assign(n.begin(), n.end());
+    }
+    return c;
+  };
+  BoundarySet b(cube, cube.cells.connectivity, gas, slip);
+  b.update_normals(cube.nodes);
+  EXPECT_EQ(b.normals_updated(), Index(std::count_if(cube.nodes.begin(), cube.nodes.end(),
+                                                     [](const Vec3& x) { return count_on_boundary(x) > 0; })));
+  const auto reference = constraints(b);
+  // The top z = 1 bulges out; the nodes of x = 0 slide within their plane.
+  std::vector<Vec3> x = cube.nodes;
+  for (Vec3& p : x) {
+    if (p.z() > 1 - 1e-9) p.z() += 0.1 * std::sin(3.14159 * p.x()) * std::sin(3.14159 * p.y());
+    if (p.x() < 1e-9) p.y() += 0.02 * std::sin(3.14159 * p.y()) * p.z();
+  }
+  b.update_normals(x);
+  Index top = 0;
+  for (const Vec3& p : cube.nodes) top += p.z() > 1 - 1e-9;
+  EXPECT_GE(b.normals_updated(), top);  // the top face and its edges
+  EXPECT_LT(b.normals_updated(), 2 * top);
+  // What a boundary set built on the moved mesh computes at every node.
+  mesh::Mesh moved = cube;
+  moved.nodes = x;
+  BoundarySet fresh(moved, moved.cells.connectivity, gas, slip);
+  fresh.update_normals(x);
+  const auto expected = constraints(fresh), got = constraints(b);
+  for (std::size_t a = 0; a < x.size(); ++a) {
+    ASSERT_EQ(got[a].size(), expected[a].size()) << "node " << a;
+    for (std::size_t k = 0; k < got[a].size(); ++k)
+      EXPECT_LT((got[a][k] - expected[a][k]).norm(), 1e-14) << "node " << a;
+  }
+  // Back at the reference: the reference normals, bit for bit.
+  b.update_normals(cube.nodes);
+  EXPECT_EQ(constraints(b), reference);
 }

@@ -373,26 +373,53 @@ void BoundarySet::update_far_node(std::size_t s, std::span<const Vec3> x) {
   far_normals_[s] = n.normalized();
 }
 
+void BoundarySet::restore_reference_node(std::size_t s, bool wall) {
+  if (wall) {
+    wall_normals_[s] = reference_wall_normals_[s];
+    wall_num_normals_[s] = reference_wall_num_normals_[s];
+    wall_num_sym_normals_[s] = reference_wall_num_sym_normals_[s];
+  } else {
+    far_normals_[s] = reference_far_normals_[s];
+  }
+}
+
 void BoundarySet::update_normals(std::span<const Vec3> x) {
   // Normals at the reference are computed for every node; afterwards only for the nodes
-  // with a face in no facet or in a facet that left its reference plane. A face's area
-  // vector is formed by each node that needs it (no shared work array, no face pass).
+  // with a face in no facet or in a facet off its reference plane, and a node whose facets
+  // came back into their planes gets its reference normals back: the result depends on x
+  // only, not on the configurations before. A face's area vector is formed by each node
+  // that needs it (no shared work array, no face pass).
   const bool all = !have_reference_;
   if (all) set_reference_facets(x);
   const std::uint64_t off = all ? ~std::uint64_t{0} : facets_off_their_planes(x);
+  const std::uint64_t back = all ? 0 : last_off_ & ~off;
   Index updated = 0;
   const auto nw = std::ptrdiff_t(wall_nodes_.size());
 #pragma omp parallel for schedule(static) reduction(+ : updated) if (std::size_t(nw) > boundary_parallel_threshold)
-  for (std::ptrdiff_t si = 0; si < nw; ++si)
-    if (wall_facets_[std::size_t(si)] & off) {
+  for (std::ptrdiff_t si = 0; si < nw; ++si) {
+    const std::uint64_t facets = wall_facets_[std::size_t(si)];
+    if (facets & off) {
       update_wall_node(std::size_t(si), x);
       ++updated;
+    } else if (facets & back) {
+      restore_reference_node(std::size_t(si), true);
     }
-  for (std::size_t s = 0; s < far_nodes_.size(); ++s)
+  }
+  for (std::size_t s = 0; s < far_nodes_.size(); ++s) {
     if (far_facets_[s] & off) {
       update_far_node(s, x);
       ++updated;
+    } else if (far_facets_[s] & back) {
+      restore_reference_node(s, false);
     }
+  }
+  if (all) {
+    reference_wall_normals_ = wall_normals_;
+    reference_wall_num_normals_ = wall_num_normals_;
+    reference_wall_num_sym_normals_ = wall_num_sym_normals_;
+    reference_far_normals_ = far_normals_;
+  }
+  last_off_ = all ? 0 : off;
   normals_updated_ = updated;
 }
 

@@ -196,8 +196,15 @@ class BoundarySet {
   std::uint64_t facets_off_their_planes(std::span<const Vec3> x) const;
   void update_wall_node(std::size_t s, std::span<const Vec3> x);
   void update_far_node(std::size_t s, std::span<const Vec3> x);
+  void restore_reference_node(std::size_t s, bool wall);
   std::vector<Facet> facets_;
   std::vector<std::uint64_t> wall_facets_, far_facets_;
+  // The normals at the reference (a node whose facets come back into their planes gets them
+  // back) and the facets that were off their planes at the last update.
+  std::vector<std::array<Vec3, 3>> reference_wall_normals_;
+  std::vector<int> reference_wall_num_normals_, reference_wall_num_sym_normals_;
+  std::vector<Vec3> reference_far_normals_;
+  std::uint64_t last_off_ = 0;
   bool have_reference_ = false;
   Index normals_updated_ = 0;
   std::vector<Index> wall_slot_;  // node -> index in wall_nodes_, or -1
