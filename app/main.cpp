@@ -39,9 +39,9 @@ int main(int argc, char** argv) {
   cli.require_subcommand(1);
   cli.footer(
       "Environment: OMP_NUM_THREADS (threads of a run), OMP_WAIT_POLICY=passive (on a loaded "
-      "machine), SHELLFLOW_SIMD=auto|sse2|avx2|avx2-fma (instruction set of the flow's element "
+      "machine), SHELLFLOW_SIMD=auto|sse2|avx2|avx2-fma|avx512 (instruction set of the flow's element "
       "pass; default auto: the best the CPU has; sse2 is the reference, avx2 gives its bits, "
-      "avx2-fma rounds differently).");
+      "avx2-fma and avx512 round differently).");
   cli.fallthrough();  // -v/-q also after the subcommand
   bool verbose = false, quiet = false;
   cli.add_flag("-v,--verbose", verbose, "Print debug messages (and Gmsh's progress)");

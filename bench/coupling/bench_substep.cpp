@@ -1,7 +1,7 @@
 // One fluid sub-step of the coupled flutter run, part by part, on the default panel slab
 // (clamped_clamped.yaml: 8 622 nodes / 25 074 tetrahedra) and on its 4x and 16x refinements
 // (meshes.fluid.size_factor 0.5 and 0.25), with 1 and 2 threads and the element pass in SSE2
-// (simd:0, the reference) and AVX2 with FMA (simd:2):
+// (simd:0, the reference), AVX2 with FMA (simd:2) and AVX-512 (simd:3):
 //   BM_SubStep          shell steps of 34 sub-steps each (the default case's count), per
 //                       sub-step: the space-mesh update (the shell's time modes moved once per
 //                       shell step, combined per sub-step: FlowModel's mesh_seconds) and the
@@ -66,7 +66,7 @@ Slab& slab(double size_factor) {
   return *p;
 }
 
-/// Sets the element pass's instruction set of argument `arg` (0 sse2, 1 avx2, 2 avx2-fma);
+/// Sets the element pass's instruction set of argument `arg` (0 sse2, 1 avx2, 2 avx2-fma, 3 avx512);
 /// false (and the benchmark skipped) when the CPU lacks it.
 bool use_simd(benchmark::State& state, std::int64_t arg) {
   try {
@@ -138,7 +138,7 @@ void BM_SubStep(benchmark::State& state) {
 // Arguments: refinement (1, 4, 16 times the tetrahedra), threads, instruction set.
 BENCHMARK(BM_SubStep)
     ->ArgNames({"refine", "threads", "simd"})
-    ->ArgsProduct({{1, 4, 16}, {1, 2}, {0, 2}})
+    ->ArgsProduct({{1, 4, 16}, {1, 2}, {0, 2, 3}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);
@@ -158,7 +158,7 @@ void BM_FixedSlabStep(benchmark::State& state) {
 }
 BENCHMARK(BM_FixedSlabStep)
     ->ArgNames({"refine", "threads", "simd"})
-    ->ArgsProduct({{1, 16}, {1, 2}, {0, 2}})
+    ->ArgsProduct({{1, 16}, {1, 2}, {0, 2, 3}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->MinTime(1.0);

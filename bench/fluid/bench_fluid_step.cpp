@@ -121,10 +121,10 @@ void FluidStep(benchmark::State& st) {
                                                 benchmark::Counter::kIs1024);
 }
 // Arguments: n (12: 10 368 tets, 26: 105 456, 55: 998 250), threads, instruction set of the
-// element pass (0 sse2, 1 avx2, 2 avx2-fma).
+// element pass (0 sse2, 1 avx2, 2 avx2-fma, 3 avx512).
 BENCHMARK(FluidStep)
     ->ArgNames({"n", "threads", "simd"})
-    ->ArgsProduct({{12, 26, 55}, {1, 2}, {0, 2}})
+    ->ArgsProduct({{12, 26, 55}, {1, 2}, {0, 2, 3}})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 

@@ -125,7 +125,7 @@ RIEMANN_VACUUM = (
 CATALOGUE = [
     # ---- the environment ----
     Entry("simd_unknown_instruction_set", base=SOD, command="run", env={"SHELLFLOW_SIMD": "avx9"},
-          expect=["environment variable SHELLFLOW_SIMD", "'avx9'"], fix="use auto, sse2, avx2 or avx2-fma"),
+          expect=["environment variable SHELLFLOW_SIMD", "'avx9'"], fix="use auto, sse2, avx2, avx2-fma or avx512"),
     # ---- issue 14's classes: .geo commands, damaged and hostile .msh files, malformed YAML ----
     Entry("geo_system_command", files={"strip.geo": "Point(1) = {0, 0, 0};\nSystem \"touch INJECTED\";\n"},
           text="name: s\nmeshes:\n  shell: { geo: strip.geo }\n",

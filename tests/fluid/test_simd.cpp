@@ -77,6 +77,9 @@ std::vector<SimdPath> paths_of_this_cpu() {
   if (__builtin_cpu_supports("avx2")) paths.push_back(SimdPath::avx2);
   if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
     paths.push_back(SimdPath::avx2_fma);
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
+      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("fma"))
+    paths.push_back(SimdPath::avx512);
   return paths;
 }
 
@@ -89,31 +92,37 @@ struct KeepSimdPath {
 }  // namespace
 
 TEST(SimdPath, Avx2GivesTheBitsOfSse2AndFmaOnlyRoundsDifferently) {
-  if (paths_of_this_cpu().size() < 3) GTEST_SKIP() << "this CPU has no AVX2 and FMA";
+  const auto paths = paths_of_this_cpu();
+  if (paths.size() < 3) GTEST_SKIP() << "this CPU has no AVX2 and FMA";
   const KeepSimdPath keep;
   const PassSetup s;
   for (const bool moves : {false, true})
     for (const bool local : {false, true}) {
       const FluidState ref = s.residual(SimdPath::sse2, moves, local, s.u);
       const FluidState avx = s.residual(SimdPath::avx2, moves, local, s.u);
-      const FluidState fma = s.residual(SimdPath::avx2_fma, moves, local, s.u);
-      double scale = 0.0, fma_diff = 0.0;
-      int fma_differs = 0;
       for (int v = 0; v < num_variables; ++v)
-        for (std::size_t a = 0; a < ref.var[std::size_t(v)].size(); ++a) {
-          const double x = ref.var[std::size_t(v)][a];
-          ASSERT_EQ(avx.var[std::size_t(v)][a], x) << "row " << v << " node " << a;
-          scale = std::max(scale, std::abs(x));
-          const double d = std::abs(fma.var[std::size_t(v)][a] - x);
-          fma_diff = std::max(fma_diff, d);
-          fma_differs += d > 0.0;
-        }
-      EXPECT_GT(scale, 0.0);
-      // Contraction changes the rounding of each product-sum: differences of a few ulps of
-      // the largest terms, relative to the largest residual.
-      EXPECT_LT(fma_diff, 1e-12 * scale) << "moves " << moves << " local " << local;
-      // The FMA variant is really a different instruction sequence.
-      EXPECT_GT(fma_differs, 0);
+        for (std::size_t a = 0; a < ref.var[std::size_t(v)].size(); ++a)
+          ASSERT_EQ(avx.var[std::size_t(v)][a], ref.var[std::size_t(v)][a]) << "row " << v << " node " << a;
+      for (const SimdPath fused : paths) {
+        if (fused == SimdPath::sse2 || fused == SimdPath::avx2) continue;
+        const FluidState fma = s.residual(fused, moves, local, s.u);
+        double scale = 0.0, fma_diff = 0.0;
+        int fma_differs = 0;
+        for (int v = 0; v < num_variables; ++v)
+          for (std::size_t a = 0; a < ref.var[std::size_t(v)].size(); ++a) {
+            const double x = ref.var[std::size_t(v)][a];
+            scale = std::max(scale, std::abs(x));
+            const double d = std::abs(fma.var[std::size_t(v)][a] - x);
+            fma_diff = std::max(fma_diff, d);
+            fma_differs += d > 0.0;
+          }
+        EXPECT_GT(scale, 0.0);
+        // Contraction changes the rounding of each product-sum: differences of a few ulps of
+        // the largest terms, relative to the largest residual.
+        EXPECT_LT(fma_diff, 1e-12 * scale) << to_string(fused) << " moves " << moves << " local " << local;
+        // The FMA variant is really a different instruction sequence.
+        EXPECT_GT(fma_differs, 0) << to_string(fused);
+      }
     }
 }
 
@@ -143,6 +152,6 @@ TEST(SimdPath, NamesParseAndBadNamesSayWhatToUse) {
   } catch (const InputError& e) {
     EXPECT_STREQ(e.what(),
                  "environment variable SHELLFLOW_SIMD: unknown instruction set 'avx9\\x0a'; use "
-                 "auto, sse2, avx2 or avx2-fma");
+                 "auto, sse2, avx2, avx2-fma or avx512");
   }
 }

@@ -40,7 +40,9 @@ void element_geometry(std::span<const Vec3> x, std::span<const Index> tets, TetG
       if (first_bad < 0 || e < first_bad) first_bad = e;
       continue;
     }
-    const Vec3 b1 = c1 / det, b2 = c2 / det, b3 = c3 / det;
+    // One division per element (nine were a third of the geometry's time).
+    const double inv_det = 1.0 / det;
+    const Vec3 b1 = c1 * inv_det, b2 = c2 * inv_det, b3 = c3 * inv_det;
     const Vec3 b0 = -(b1 + b2 + b3);
     auto& b = g.grad[ue];
     const Vec3* bs[4] = {&b0, &b1, &b2, &b3};

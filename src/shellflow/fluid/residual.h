@@ -35,15 +35,15 @@ struct ResidualParameters {
 /// Instruction set of the element pass. `sse2` (2 elements per instruction, the x86-64
 /// baseline) is the reference; `avx2` (4 elements) gives the same bits; `avx2_fma` adds fused
 /// multiply-adds, whose rounding differs from the reference in the last bits (a uniform
-/// state still gives exactly zero).
-enum class SimdPath { sse2, avx2, avx2_fma };
+/// state still gives exactly zero); `avx512` (8 elements, AVX-512F/DQ/VL with FMA).
+enum class SimdPath { sse2, avx2, avx2_fma, avx512 };
 
 /// The element pass's instruction set: set_simd_path's, else the environment variable
-/// SHELLFLOW_SIMD (auto, sse2, avx2, avx2-fma), else the best this CPU has. Throws InputError
+/// SHELLFLOW_SIMD (auto, sse2, avx2, avx2-fma, avx512), else the best this CPU has. Throws InputError
 /// for an unknown name or a set the CPU lacks.
 SimdPath simd_path();
 void set_simd_path(SimdPath path);
-/// "sse2", "avx2", "avx2-fma".
+/// "sse2", "avx2", "avx2-fma", "avx512".
 std::string_view to_string(SimdPath path);
 /// `name` as in SHELLFLOW_SIMD; `origin` names where it came from, for the error message.
 SimdPath parse_simd_path(std::string_view name, std::string_view origin);
