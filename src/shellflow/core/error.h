@@ -3,6 +3,7 @@
 // `main` can print them as one line. Library code throws; only `app/` catches.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -30,6 +31,21 @@ class SolverError : public Error {
 template <class... Args>
 [[noreturn]] void throw_input_error(fmt::format_string<Args...> f, Args&&... args) {
   throw InputError(fmt::format(f, std::forward<Args>(args)...));
+}
+
+/// `text` with control bytes (newlines, escapes) shown as \xNN: quoted input in a one-line
+/// message, nothing for the terminal to interpret.
+inline std::string printable(std::string_view text) {
+  std::string out;
+  for (const char ch : text) {
+    const auto b = static_cast<unsigned char>(ch);
+    if (b < 0x20 || b == 0x7f) {
+      out += fmt::format("\\x{:02x}", b);
+    } else {
+      out += ch;
+    }
+  }
+  return out;
 }
 
 }  // namespace shellflow

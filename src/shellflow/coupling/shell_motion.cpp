@@ -130,7 +130,6 @@ void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displace
                             displacement.size(), velocity.size()));
   double c[4], dc[4];
   time_coefficients(time, c, dc);
-  const bool at_rest_window = dt_ == 0.0;
   for (std::size_t i = 0; i < count; ++i) {
     Vec3 x0 = Vec3::Zero(), v0 = Vec3::Zero(), x1 = Vec3::Zero(), v1 = Vec3::Zero();
     for (std::size_t a = 0; a < n; ++a) {
@@ -141,13 +140,9 @@ void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displace
       x1 += w * x1_[j];
       v1 += w * v1_[j];
     }
-    if (at_rest_window) {
-      displacement[i] = x0;
-      velocity[i] = v0;
-    } else {
-      displacement[i] = c[0] * x0 + c[1] * v0 + c[2] * x1 + c[3] * v1;
-      velocity[i] = dc[0] * x0 + dc[1] * v0 + dc[2] * x1 + dc[3] * v1;
-    }
+    // A window of zero length has c = (1, 0, 0, 0), dc = (0, 1, 0, 0): x0 and v0 exactly.
+    displacement[i] = c[0] * x0 + c[1] * v0 + c[2] * x1 + c[3] * v1;
+    velocity[i] = dc[0] * x0 + dc[1] * v0 + dc[2] * x1 + dc[3] * v1;
   }
 }
 

@@ -132,16 +132,6 @@ SimdPath best_path() {
                                      : SimdPath::sse2;
 }
 
-/// `text` with control bytes shown as \xNN and cut at 40 characters (for one-line messages).
-std::string printable(std::string_view text) {
-  std::string out;
-  for (const char ch : text.substr(0, 40)) {
-    const auto b = static_cast<unsigned char>(ch);
-    out += b < 0x20 || b == 0x7f ? fmt::format("\\x{:02x}", b) : std::string(1, ch);
-  }
-  return text.size() > 40 ? out + "..." : out;
-}
-
 std::atomic<int>& chosen_path() {
   static std::atomic<int> path = -1;  // -1: not chosen yet
   return path;
@@ -172,7 +162,7 @@ SimdPath parse_simd_path(std::string_view name, std::string_view origin) {
       return path;
     }
   throw_input_error("{}: unknown instruction set '{}'; use auto, sse2, avx2, avx2-fma or avx512", origin,
-                    printable(name));
+                    printable(name.substr(0, 40)) + (name.size() > 40 ? "..." : ""));
 }
 
 SimdPath simd_path() {

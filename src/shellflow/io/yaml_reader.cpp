@@ -40,17 +40,8 @@ std::string SourceLocation::prefix() const {
 
 std::string SourceLocation::message(std::string_view what) const {
   // One line, nothing for the terminal to interpret: keys and values quoted from the file
-  // may hold any byte; control bytes (newlines, escapes) are shown as \xNN.
-  std::string out;
-  for (const char ch : fmt::format("{}: {}", prefix(), what)) {
-    const auto b = static_cast<unsigned char>(ch);
-    if (b < 0x20 || b == 0x7f) {
-      out += fmt::format("\\x{:02x}", b);
-    } else {
-      out += ch;
-    }
-  }
-  return out;
+  // may hold any byte.
+  return printable(fmt::format("{}: {}", prefix(), what));
 }
 
 void throw_at(const SourceLocation& where, std::string_view what) {
