@@ -11,6 +11,7 @@
 #include <fmt/format.h>
 #include <omp.h>
 
+#include "shellflow/core/version.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/newmark_solver.h"
 #include "shellflow/shell/static_solver.h"
@@ -27,7 +28,7 @@ std::unique_ptr<ShellModel> make_model(const std::string& case_file) {
     section.thickness = 0.25;
     section.material = SvkMaterial{4.32e8, 0.0, 1.0};
     auto model = std::make_unique<ShellModel>(
-        mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "bench/shell" / case_file, meshing, "shell"),
+        mesh::generate_mesh(std::filesystem::path(shellflow::source_dir) / "bench/shell" / case_file, meshing, "shell"),
         section);
     model->add_support(Support::symmetry_plane("sym_x", 0));
     model->add_support(Support::symmetry_plane("sym_y", 1));
@@ -42,7 +43,7 @@ std::unique_ptr<ShellModel> make_model(const std::string& case_file) {
   section.thickness = strip ? 1.35e-3 : 0.1;
   section.material = strip ? SvkMaterial{77.28e9, 0.33, 2710.0} : SvkMaterial{1.2e6, 0.0, 0.0};
   auto model = std::make_unique<ShellModel>(
-      mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "cases/shell" / case_file, meshing, "shell"),
+      mesh::generate_mesh(std::filesystem::path(shellflow::source_dir) / "cases/shell" / case_file, meshing, "shell"),
       section);
   if (strip) {
     model->add_support(Support::clamped("leading_edge"));
