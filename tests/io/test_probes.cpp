@@ -15,6 +15,7 @@
 #include "io_test_util.h"
 #include "shellflow/core/error.h"
 #include "shellflow/io/probes.h"
+#include "support/box_mesh.h"
 
 namespace shellflow::io {
 namespace {
@@ -24,30 +25,15 @@ using test::TempDir;
 double linear_field(const Vec3& x) { return 1.0 + 2.0 * x.x() + 3.0 * x.y() - 5.0 * x.z(); }
 Vec3 linear_vector(const Vec3& x) { return {x.x(), 2.0 * x.y(), x.z() + 1.0}; }
 
-/// Unit cube as 6 positively oriented tetrahedra (Kuhn: around the diagonal 0-7), node
-/// i at (i & 1, (i >> 1) & 1, (i >> 2) & 1); group "bottom" = the nodes on z = 0.
+/// Unit cube as 6 positively oriented tetrahedra (Kuhn: around the diagonal 0-7; the tests'
+/// box), node i at (i & 1, (i >> 1) & 1, (i >> 2) & 1); group "bottom" = the face z = 0.
 mesh::Mesh unit_cube() {
-  mesh::Mesh m;
+  mesh::Mesh m = support::box_mesh({1, 1, 1}, Vec3(1, 1, 1), [](const Vec3& c) {
+    return c.z() == 0.0 ? std::string("bottom") : std::string();
+  });
   m.name = "fluid";
   m.source = "unit cube (test)";
-  for (int i = 0; i < 8; ++i) {
-    m.nodes.emplace_back(i & 1, (i >> 1) & 1, (i >> 2) & 1);
-    m.node_tags.push_back(static_cast<std::size_t>(i + 1));
-  }
-  m.cells.type = mesh::ElementType::tet4;
-  const std::array<std::array<int, 3>, 6> axes = {
-      {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}}};
-  for (const auto& a : axes) {
-    std::array<Index, 4> tet = {0, Index{1} << a[0], (Index{1} << a[0]) | (Index{1} << a[1]), 7};
-    const auto x = [&](int k) { return m.nodes[static_cast<std::size_t>(tet[static_cast<std::size_t>(k)])]; };
-    if ((x(1) - x(0)).cross(x(2) - x(0)).dot(x(3) - x(0)) < 0) std::swap(tet[1], tet[2]);
-    m.cells.connectivity.insert(m.cells.connectivity.end(), tet.begin(), tet.end());
-  }
-  mesh::PhysicalGroup bottom;
-  bottom.name = "bottom";
-  bottom.dim = 2;
-  bottom.nodes = {0, 1, 2, 3};
-  m.groups.push_back(bottom);
+  for (std::size_t i = 0; i < m.nodes.size(); ++i) m.node_tags.push_back(i + 1);
   return m;
 }
 
@@ -80,9 +66,9 @@ Probe point_probe(const std::string& name, const std::string& mesh, const std::s
 struct Fields {
   std::vector<double> pressure, velocity, displacement;
   std::vector<FieldView> views() const {
-    return {{"fluid", "pressure", 1, pressure},
-            {"fluid", "velocity", 3, velocity},
-            {"shell", "displacement", 1, displacement}};
+    return {{"fluid", "pressure", 1, pressure, {}},
+            {"fluid", "velocity", 3, velocity, {}},
+            {"shell", "displacement", 1, displacement, {}}};
   }
 };
 

@@ -1,6 +1,7 @@
 #include "shellflow/io/probes.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -148,13 +149,20 @@ std::vector<double> ProbeSet::sample(std::span<const FieldView> fields) const {
       throw_at(l.probe.where, fmt::format("field '{}' is not computed by this run", l.probe.field));
     }
     const int nc = field->components;
-    auto value_at = [&](Index node) { return field->values.data() + static_cast<std::ptrdiff_t>(node) * nc; };
+    std::array<double, 9> computed{};
+    auto value_at = [&](Index node) -> const double* {
+      if (!field->at) return field->values.data() + static_cast<std::ptrdiff_t>(node) * nc;
+      field->at(node, computed.data());
+      return computed.data();
+    };
     if (!l.weights.empty()) {
       // Interpolate the vector first, then take the component (magnitude of the
       // interpolated vector, not the interpolated magnitude).
       std::vector<double> v(static_cast<std::size_t>(nc), 0.0);
-      for (std::size_t a = 0; a < l.nodes.size(); ++a)
-        for (int k = 0; k < nc; ++k) v[static_cast<std::size_t>(k)] += l.weights[a] * value_at(l.nodes[a])[k];
+      for (std::size_t a = 0; a < l.nodes.size(); ++a) {
+        const double* value = value_at(l.nodes[a]);
+        for (int k = 0; k < nc; ++k) v[static_cast<std::size_t>(k)] += l.weights[a] * value[k];
+      }
       values.push_back(component_of(v.data(), nc, l.probe.component));
     } else {
       double acc = l.probe.reduce == ProbeReduce::min   ? std::numeric_limits<double>::infinity()
@@ -173,10 +181,12 @@ std::vector<double> ProbeSet::sample(std::span<const FieldView> fields) const {
   return values;
 }
 
-void ProbeSet::record(double time, std::span<const FieldView> fields) {
-  if (last_time_ == time) return;  // the same state again (see the header)
-  writer_.append(time, sample(fields));
+std::vector<double> ProbeSet::record(double time, std::span<const FieldView> fields) {
+  std::vector<double> values = sample(fields);
+  if (last_time_ == time) return values;  // the same state again (see the header)
+  writer_.append(time, values);
   last_time_ = time;
+  return values;
 }
 
 }  // namespace shellflow::io

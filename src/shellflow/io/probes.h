@@ -2,6 +2,7 @@
 // Probes declared in a case file, sampled after every step and written to
 // OUTDIR/probes.csv (`time,<probe names...>`).
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <span>
@@ -15,12 +16,15 @@
 namespace shellflow::io {
 
 /// A point field of one mesh, as a solver exposes it to the probes: `components` values per
-/// node, node after node.
+/// node, node after node in `values`, or, when `at` is set, computed on demand by
+/// `at(node, out)` (writes the node's `components` values, at most 9, to out): the probes
+/// then read their few nodes without the whole field being built.
 struct FieldView {
   std::string_view mesh;      ///< "fluid", "space", "shell"
   std::string_view quantity;  ///< "displacement", "pressure", ...
   int components = 1;
   std::span<const double> values;
+  std::function<void(Index node, double* out)> at;
 };
 
 class ProbeSet {
@@ -32,10 +36,11 @@ class ProbeSet {
            const std::filesystem::path& csv_path, OutputMode mode = OutputMode::create);
   ~ProbeSet();
 
-  /// Appends one CSV row. Every probed field must be among `fields`. A time equal to the
-  /// last row's is not written again: a run whose solver fails records its last valid state
-  /// once more (to write its fields), and probes.csv holds one row per state.
-  void record(double time, std::span<const FieldView> fields);
+  /// Appends one CSV row and returns its values. Every probed field must be among `fields`
+  /// (the first view of a mesh and quantity counts). A time equal to the last row's is not
+  /// written again: a run whose solver fails records its last valid state once more (to
+  /// write its fields), and probes.csv holds one row per state.
+  std::vector<double> record(double time, std::span<const FieldView> fields);
   /// Values of the probes for these fields, in declaration order (what record() writes).
   std::vector<double> sample(std::span<const FieldView> fields) const;
   std::size_t size() const;
