@@ -89,18 +89,15 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
         report.flow_seconds += seconds(c2, Clock::now());
       } else {
         report.mesh_seconds += seconds(c1, Clock::now());
-        const auto q = mesh::cell_qualities(mesh_, x_);
-        for (std::size_t e = 0; e < q.size(); ++e)
-          if (!(q[e] > 0.0)) {
-            const auto v = mesh_.cells.element(Index(e));
-            const Vec3 c = 0.25 * (x_[std::size_t(v[0])] + x_[std::size_t(v[1])] + x_[std::size_t(v[2])] +
-                                   x_[std::size_t(v[3])]);
-            throw SolverError(fmt::format(
-                "t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
-                "the shell moves too far for this mesh: refine the fluid or space mesh near the "
-                "panel or change the motion's IDW exponents",
-                t, e, c.x(), c.y(), c.z()));
-          }
+        const mesh::QualitySummary q = mesh::summarize_quality(mesh_, x_);
+        if (q.inverted > 0) {
+          const Vec3 c = mesh::vertex_centroid(mesh_, q.worst_cell, x_);
+          throw SolverError(fmt::format(
+              "t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
+              "the shell moves too far for this mesh: refine the fluid or space mesh near the "
+              "panel or change the motion's IDW exponents",
+              t, q.worst_cell, c.x(), c.y(), c.z()));
+        }
       }
       time_ = t;
     }

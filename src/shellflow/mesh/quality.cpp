@@ -55,8 +55,10 @@ std::vector<double> cell_qualities(const Mesh& mesh, std::span<const Vec3> posit
   return q;
 }
 
-QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positions) {
+QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positions,
+                                 std::span<const double> reference) {
   QualitySummary s;
+  if (!reference.empty()) s.min_ratio = std::numeric_limits<double>::infinity();
   s.min = std::numeric_limits<double>::infinity();
   s.min_volume = std::numeric_limits<double>::infinity();
   double sum = 0.0;
@@ -66,6 +68,7 @@ QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positio
         const double q = d ? tet_mean_ratio(a, b, c, *d) : triangle_quality(a, b, c);
         const double v = d ? tet_signed_volume(a, b, c, *d) : 0.5 * (b - a).cross(c - a).norm();
         sum += q;
+        if (!reference.empty()) s.min_ratio = std::min(s.min_ratio, q / reference[static_cast<std::size_t>(e)]);
         if (q < s.min || (std::isnan(q) && !std::isnan(s.min))) {  // NaN is the worst
           s.min = q;
           s.worst_cell = e;
@@ -75,6 +78,15 @@ QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positio
       });
   if (mesh.num_cells() > 0) s.mean = sum / mesh.num_cells();
   return s;
+}
+
+Vec3 vertex_centroid(const Mesh& mesh, Index cell, std::span<const Vec3> positions) {
+  const auto x = positions_or_nodes(mesh, positions);
+  const auto v = mesh.cells.element(cell);
+  const int corners = mesh.dim() == 3 ? 4 : 3;
+  Vec3 c = Vec3::Zero();
+  for (int k = 0; k < corners; ++k) c += x[static_cast<std::size_t>(v[static_cast<std::size_t>(k)])];
+  return c / corners;
 }
 
 }  // namespace shellflow::mesh

@@ -29,7 +29,17 @@ struct QualitySummary {
   Index worst_cell = -1;   ///< index of the cell with the smallest quality
   Index inverted = 0;      ///< number of cells with non-positive volume (tetrahedra)
   double min_volume = 0.0; ///< smallest signed volume (tetrahedra) or area (triangles)
+  double min_ratio = 1.0;  ///< smallest ratio of a cell's quality to its `reference` quality
 };
-QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positions = {});
+/// The quality of every cell summarised (at `positions` when not empty); with `reference`
+/// (one quality per cell, e.g. cell_qualities of the initial mesh) also the smallest ratio
+/// to it: the one scan behind `shellflow mesh`, the runs' quality histories and the
+/// inverted-element checks of a moving mesh.
+QualitySummary summarize_quality(const Mesh& mesh, std::span<const Vec3> positions = {},
+                                 std::span<const double> reference = {});
+
+/// The centroid of a cell's vertices (at `positions` when not empty): where a message puts
+/// a bad cell.
+Vec3 vertex_centroid(const Mesh& mesh, Index cell, std::span<const Vec3> positions = {});
 
 }  // namespace shellflow::mesh
