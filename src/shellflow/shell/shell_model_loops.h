@@ -1,5 +1,7 @@
 #pragma once
-// The coloured parallel element loop of ShellModel (for its .cpp files only).
+// The element loops of ShellModel (for the shell module's .cpp files only): the coloured
+// parallel loop and the dispatch on the triangle type.
+#include "shellflow/fem/reference_element.h"
 #include "shellflow/shell/shell_model.h"
 
 namespace shellflow::shell {
@@ -17,6 +19,15 @@ void ShellModel::for_each_element_parallel(F&& f) const {
 #pragma omp for schedule(static)
     for (std::ptrdiff_t i = 0; i < count; ++i) f(color[static_cast<std::size_t>(i)]);
   }
+}
+
+/// Calls f(element) with the reference triangle type of the model's mesh (3, 6 or 10 nodes).
+template <class F>
+void visit_triangle(const ShellModel& model, F&& f) {
+  fem::visit_element_type(static_cast<int>(model.mesh().cells.type), [&](auto element) {
+    using E = decltype(element);
+    if constexpr (E::dim == 2) f(element);
+  });
 }
 
 }  // namespace shellflow::shell

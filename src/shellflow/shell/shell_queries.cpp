@@ -6,6 +6,7 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/fem/reference_element.h"
+#include "shellflow/shell/shell_model_loops.h"
 
 namespace shellflow::shell {
 
@@ -170,14 +171,6 @@ Vec2 project_on_patch(SurfacePatch<Tri>& patch, const Vec3& p, Vec2 xi) {
     }
   }
   return best;
-}
-
-template <class F>
-void visit_triangle(const ShellModel& model, F&& f) {
-  fem::visit_element_type(static_cast<int>(model.mesh().cells.type), [&](auto element) {
-    using E = decltype(element);
-    if constexpr (E::dim == 2) f(element);
-  });
 }
 
 }  // namespace

@@ -4,6 +4,7 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/fem/reference_element.h"
+#include "shellflow/shell/shell_model_loops.h"
 
 namespace shellflow::shell {
 
@@ -56,14 +57,6 @@ StressPoint evaluate(const ShellModel& model, const Eigen::VectorXd& u, Index e,
   return s;
 }
 
-template <class F>
-void visit_triangle_type(const ShellModel& model, F&& f) {
-  fem::visit_element_type(static_cast<int>(model.mesh().cells.type), [&](auto element) {
-    using E = decltype(element);
-    if constexpr (E::dim == 2) f(element);
-  });
-}
-
 }  // namespace
 
 StressPoint stress_at(const ShellModel& model, const Eigen::VectorXd& u, const ShellPoint& p, double xi3) {
@@ -74,7 +67,7 @@ StressPoint stress_at(const ShellModel& model, const Eigen::VectorXd& u, const S
   if (!(xi3 >= -1.0 && xi3 <= 1.0))
     throw_input_error("shell stress: thickness coordinate xi3 must be in [-1, 1] (got {})", xi3);
   StressPoint s;
-  visit_triangle_type(model, [&](auto element) {
+  visit_triangle(model, [&](auto element) {
     s = evaluate<decltype(element)>(model, u, p.element, p.xi.data(), xi3);
   });
   return s;
@@ -103,7 +96,7 @@ NodalStresses nodal_stresses(const ShellModel& model, const Eigen::VectorXd& u, 
   out.von_mises.assign(n, 0.0);
   std::vector<int> count(n, 0);
   const double xi3 = static_cast<double>(static_cast<int>(side));
-  visit_triangle_type(model, [&](auto element) {
+  visit_triangle(model, [&](auto element) {
     using E = decltype(element);
     for (Index e = 0; e < m.num_cells(); ++e) {
       const auto conn = m.cells.element(e);
