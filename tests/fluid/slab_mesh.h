@@ -6,9 +6,11 @@
 #include <cmath>
 #include <string>
 
-#include "box_mesh.h"
+#include "support/box_mesh.h"
 
 namespace shellflow::fluid::test_support {
+
+using shellflow::support::box_mesh;
 
 inline mesh::Mesh slab_mesh(int nx, int ny, double lx, double ly, double dz) {
   mesh::Mesh m = box_mesh({nx, ny, 1}, Vec3(lx, ly, dz), [&](const Vec3& c) -> std::string {

@@ -10,7 +10,7 @@
 #include <map>
 #include <set>
 
-#include "box_mesh.h"
+#include "support/box_mesh.h"
 #include "fluid_test_util.h"
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/geometry.h"
@@ -142,7 +142,7 @@ TEST(Ordering, NoTwoBlocksOfOneColourShareANode) {
 // The lumped mass scattered colour by colour in parallel (the moving-mesh step's path) has
 // the bits of the serial sum, on a mesh above the parallel threshold, with 1 and 2 threads.
 TEST(TetGeometry, ColourLoopGivesTheSerialLumpedMassBitForBit) {
-  const auto mesh = shuffled(test_support::box_mesh({18, 18, 18}, Vec3(1, 1, 1), [](const Vec3&) { return std::string(); }), 7);
+  const auto mesh = shuffled(shellflow::support::box_mesh({18, 18, 18}, Vec3(1, 1, 1), [](const Vec3&) { return std::string(); }), 7);
   ASSERT_GT(mesh.num_cells(), parallel_threshold);
   const CellColouring colours =
       colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), default_block_size(mesh.num_cells(), 2));

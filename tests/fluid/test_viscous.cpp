@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "fluid_test_util.h"
-#include "box_mesh.h"
+#include "support/box_mesh.h"
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/viscous.h"
 
@@ -28,7 +28,7 @@ namespace {
 
 constexpr double pi = std::numbers::pi;
 
-using test_support::box_mesh;
+using shellflow::support::box_mesh;
 
 /// Periodicity in x emulated on a mesh whose x faces carry no condition: after every step
 /// the states of the node pairs (0, y, z) and (L_x, y, z) are replaced by their mass-weighted
