@@ -2,7 +2,6 @@
 #include <fmt/format.h>
 
 #include "commands.h"
-#include "output_dir.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/mesh/gmsh_input_check.h"
 

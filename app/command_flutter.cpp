@@ -10,7 +10,6 @@
 #include <numbers>
 
 #include "commands.h"
-#include "output_dir.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
 #include "shellflow/coupling/linear_flutter.h"
@@ -46,18 +45,22 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   if (!full.fluid)
     throw InputError(fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
                                  "(density, pressure, mach, direction) for piston theory", where));
-  if (!(full.fluid->free_stream.mach > 1.0))
-    throw InputError(fmt::format("{}: fluid.free_stream.mach is {}; piston theory needs a supersonic stream "
-                                 "(mach > 1)", where, full.fluid->free_stream.mach));
   const io::Case c = shell_only(full);
   const auto outdir = prepare_output_dir(c, common);
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
 
-  // The wetted face does not enter the linear matrices (sign^2 = 1).
-  const coupling::PistonTheory theory(
-      model, setup::piston_flow(c, c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal
-                                                                                    : model.directors()[0]));
+  // The wetted face does not enter the linear matrices (sign^2 = 1). Piston theory checks its
+  // stream (supersonic, positive density and speed).
+  const coupling::PistonTheory theory = [&] {
+    try {
+      return coupling::PistonTheory(
+          model, setup::piston_flow(c, c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal
+                                                                                       : model.directors()[0]));
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("{}: {}", where, e.what()));
+    }
+  }();
   coupling::FlutterSetting setting = setup::flutter_setting(c, model);
   setting.aerodynamic_damping = !options.no_aerodynamic_damping;
   const auto& mat = c.shell->material;

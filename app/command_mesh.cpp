@@ -6,7 +6,6 @@
 #include <fstream>
 
 #include "commands.h"
-#include "output_dir.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
 

@@ -25,8 +25,7 @@
 #include <sstream>
 
 #include "commands.h"
-#include "output_dir.h"
-#include "run_control.h"
+#include "shellflow/run/run_control.h"
 #include "shellflow/io/checkpoint.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"

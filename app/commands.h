@@ -7,7 +7,9 @@
 #include <utility>
 #include <vector>
 
-#include "run_control.h"
+#include "shellflow/io/case.h"
+#include "shellflow/run/output_dir.h"
+#include "shellflow/run/run_control.h"
 #include "shellflow/coupling/linear_flutter.h"
 
 namespace shellflow::app {
@@ -19,6 +21,18 @@ struct CommonOptions {
   std::vector<std::string> overrides;               ///< --set KEY=VALUE, applied to the case file
 };
 
+using run::kStoppedExitCode;
+using run::make_plot;
+using run::StopOptions;
+
+/// The case file of the command line, with its --set overrides applied.
+io::Case read_case(const CommonOptions& options);
+/// The output directory of a command (-o, else the case's output.directory), created.
+inline std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions& options) {
+  return run::prepare_output_dir(c, options.output_dir);
+}
+
+/// `shellflow run`: run::run_case on the case file (run/run.h).
 int run_command(const CommonOptions& options, const StopOptions& stop = {});
 
 /// `shellflow flutter`: the linear flutter analysis (coupling/linear_flutter.h).
@@ -42,10 +56,5 @@ int study_command(const CommonOptions& common, const StudyOptions& options);
 int mesh_command(const CommonOptions& options, bool json);
 int check_command(const CommonOptions& options);
 
-/// Runs tools/<script> with Debian's Python on the argument vector `args` (no shell is
-/// involved); logs a warning (not an error) if the plot cannot be made, since the numerical
-/// output is already written. `output_to_stderr`: the script's stdout goes to our stderr
-/// (when stdout carries machine-readable output, e.g. `mesh --json`).
-void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr = false);
 
 }  // namespace shellflow::app

@@ -19,14 +19,14 @@
 #include <string>
 
 #include "commands.h"
-#include "run_control.h"
+#include "shellflow/run/run_control.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
 #include "shellflow/fluid/residual.h"
 
 int main(int argc, char** argv) {
   using namespace shellflow;
-  (void)app::process_start();  // --stop-at-wall counts from here
+  (void)run::process_start();  // --stop-at-wall counts from here
   // Log to stderr so that stdout carries only results (tables, JSON).
   auto logger = spdlog::stderr_color_mt("shellflow");
   spdlog::set_default_logger(logger);
@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
              "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png)");
   add_case(run);
   add_output(run);
-  app::StopOptions stop;
+  run::StopOptions stop;
   run->add_option("--restart", stop.restart,
                   "OUTDIR or OUTDIR/checkpoint_NNNNNN.ckpt: continue a run from its newest (or that) checkpoint, "
                   "in its folder, bit for bit; the case file must be the same (time.end may grow); see "

@@ -301,7 +301,7 @@ class CoupledRuns(unittest.TestCase):
         with open(os.path.join(out, "mesh_quality.csv"), newline="") as f:
             q = list(csv.reader(f))
         self.assertEqual(q[0][1:], ["fluid_min_quality", "fluid_mean_quality", "fluid_min_quality_ratio",
-                                    "fluid_inverted", "space_min_relative_jacobian"])
+                                    "fluid_inverted", "space_min_quality", "space_min_relative_jacobian"])
         self.assertTrue(all(float(row[4]) == 0 for row in q[1:]))
         for key in ("fluid", "space", "shell"):
             self.assertTrue(os.path.exists(os.path.join(out, key + ".pvd")), key)

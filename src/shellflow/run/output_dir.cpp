@@ -1,4 +1,4 @@
-#include "output_dir.h"
+#include "shellflow/run/output_dir.h"
 
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
@@ -17,17 +17,12 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
+#include "shellflow/io/checkpoint.h"
 
-namespace shellflow::app {
+namespace shellflow::run {
 
-io::Case read_case(const CommonOptions& options) {
-  std::vector<io::KeyOverride> overrides;
-  for (const auto& text : options.overrides) overrides.push_back(io::KeyOverride::parse(text));
-  return io::read_case(options.case_file, overrides);
-}
-
-std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions& options) {
-  const auto dir = options.output_dir.value_or(c.output.directory);
+std::filesystem::path prepare_output_dir(const io::Case& c, const std::optional<std::filesystem::path>& output_dir) {
+  const auto dir = output_dir.value_or(c.output.directory);
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) {
@@ -145,4 +140,8 @@ void make_plot(const std::string& script, const std::vector<std::string>& args, 
                  WIFEXITED(status) ? WEXITSTATUS(status) : -1);
 }
 
-}  // namespace shellflow::app
+void make_plots(const PlotJobs& jobs) {
+  for (const PlotJob& job : jobs) make_plot(job.script, job.args);
+}
+
+}  // namespace shellflow::run

@@ -1,20 +1,19 @@
 #pragma once
+// The output folder of a run: its creation, the names of what a run writes there (and the
+// removal of an earlier run's), and the plots drawn from it at the end.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include "commands.h"
 #include "shellflow/io/case.h"
 
-namespace shellflow::app {
-/// The case file of the command line, with its --set overrides applied.
-io::Case read_case(const CommonOptions& options);
-/// The output directory of a run (-o, else the case's output.directory), created.
-std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions& options);
+namespace shellflow::run {
+/// The output directory of a run (`output_dir` = -o, else the case's output.directory), created.
+std::filesystem::path prepare_output_dir(const io::Case& c, const std::optional<std::filesystem::path>& output_dir);
 /// Whether `name` is a file `shellflow run` writes: `<mesh>_NNNNNN.vtu`, `<mesh>.pvd`,
 /// `shell_mode_NN.vtu`, probes.csv, coupling.csv, response.json, the plots, checkpoint_NNNNNN.ckpt
-/// ... (docs/output.md),
-/// or the `.tmp` leftover of one.
+/// ... (docs/output.md), or the `.tmp` leftover of one.
 bool is_run_output_name(const std::string& name);
 /// Removes the files of an earlier run from `dir` (only regular files whose names
 /// is_run_output_name accepts, directly in `dir`: no other file, no folder) so that a new run
@@ -23,4 +22,19 @@ std::size_t remove_previous_run_output(const std::filesystem::path& dir);
 /// The arguments of tools/plot_probes.py for a run's probes.csv: the abscissa's label (a static
 /// shell run's `time` column is its load factor) and each probe's reference curve.
 std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::filesystem::path& outdir);
-}  // namespace shellflow::app
+
+/// One plot: tools/<script> and its arguments.
+struct PlotJob {
+  std::string script;
+  std::vector<std::string> args;
+};
+using PlotJobs = std::vector<PlotJob>;
+
+/// Runs tools/<script> with Debian's Python on the argument vector `args` (no shell is
+/// involved); logs a warning (not an error) if the plot cannot be made, since the numerical
+/// output is already written. `output_to_stderr`: the script's stdout goes to our stderr
+/// (when stdout carries machine-readable output, e.g. `mesh --json`).
+void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr = false);
+/// Draws every plot of `jobs`.
+void make_plots(const PlotJobs& jobs);
+}  // namespace shellflow::run

@@ -1,4 +1,4 @@
-#include "run_control.h"
+#include "shellflow/run/run_control.h"
 
 #include <omp.h>
 #include <spdlog/spdlog.h>
@@ -11,11 +11,11 @@
 #include <set>
 
 #include "shellflow/core/error.h"
-#include "output_dir.h"
+#include "shellflow/run/output_dir.h"
 #include "shellflow/core/version.h"
 #include "shellflow/fluid/residual.h"
 
-namespace shellflow::app {
+namespace shellflow::run {
 namespace fs = std::filesystem;
 namespace {
 
@@ -235,4 +235,4 @@ void RunControl::log_summary(double run_seconds) const {
                run_seconds > 0 ? 100.0 * seconds_ / run_seconds : 0.0);
 }
 
-}  // namespace shellflow::app
+}  // namespace shellflow::run

@@ -24,7 +24,7 @@
 #include "shellflow/io/probe_writer.h"
 #include "shellflow/io/pvd_writer.h"
 
-namespace shellflow::app {
+namespace shellflow::run {
 
 /// The exit code of a run that stopped with a checkpoint (--stop-after, --stop-at-wall,
 /// SIGINT/SIGTERM): EX_TEMPFAIL, "try again later".
@@ -117,4 +117,4 @@ io::Checkpoint load_restart(const std::filesystem::path& path, const io::Case& c
 /// The header this run's checkpoints get (version, build, case, threads, digests).
 io::CheckpointHeader current_header(const io::Case& c, std::vector<io::SectionDigest> digests);
 
-}  // namespace shellflow::app
+}  // namespace shellflow::run

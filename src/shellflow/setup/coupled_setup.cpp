@@ -132,10 +132,10 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
 }
 
 coupling::PistonTheoryFlow piston_flow(const io::Case& c, const Vec3& wet_normal) {
-  const fluid::Primitive inf = free_stream(*c.fluid);
+  // Speed and Mach number from the case's one conversion (U = M a).
   coupling::PistonTheoryFlow flow;
-  flow.density = inf.rho;
-  flow.speed = inf.velocity.norm();
+  flow.density = c.fluid->free_stream.density;
+  flow.speed = free_stream_speed(*c.fluid);
   flow.mach = c.fluid->free_stream.mach;
   flow.direction = c.fluid->free_stream.direction;
   flow.wet_normal = wet_normal;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "shellflow/core/error.h"
+#include "shellflow/fluid/ordering.h"
 
 namespace shellflow::setup {
 namespace {
@@ -51,10 +52,13 @@ fluid::FluidOptions fluid_options(const io::FluidSection& section) {
   return options;
 }
 
+double free_stream_speed(const io::FluidSection& section) {
+  const auto& fs = section.free_stream;
+  return fs.mach * std::sqrt(section.gas.gamma * fs.pressure / fs.density);
+}
+
 fluid::Primitive free_stream(const io::FluidSection& section) {
-  const double sound = std::sqrt(section.gas.gamma * section.free_stream.pressure /
-                                 section.free_stream.density);
-  return {section.free_stream.density, section.free_stream.mach * sound * section.free_stream.direction,
+  return {section.free_stream.density, free_stream_speed(section) * section.free_stream.direction,
           section.free_stream.pressure};
 }
 
@@ -86,6 +90,37 @@ std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection
     }
   }
   return conditions;
+}
+
+Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh) {
+  Flow flow;
+  mesh::Mesh mesh = case_mesh;
+  flow.new_index = fluid::renumber_for_locality(mesh);
+  const io::FluidMeshMotion* motion = section.mesh_motion ? &*section.mesh_motion : nullptr;
+  if (motion) flow.mesh_velocity = std::make_unique<std::vector<Vec3>>(mesh.nodes.size(), Vec3::Zero());
+  flow.model = std::make_unique<fluid::FluidModel>(std::move(mesh), fluid_options(section),
+                                                   boundary_conditions(section, flow.mesh_velocity.get()));
+  fluid::FluidModel& model = *flow.model;
+  const io::FluidAnalysis* analysis = section.analysis ? &*section.analysis : nullptr;
+  if (analysis && analysis->riemann) {
+    const auto& r = *analysis->riemann;
+    model.set_state([&](const Vec3& x) { return x.dot(r.normal) < r.position ? primitive(r.left) : primitive(r.right); });
+  } else if (analysis && analysis->initial) {
+    model.set_state([&](const Vec3& x) { return primitive(*analysis->initial, x, 0.0); });
+  } else {
+    const fluid::Primitive inf = free_stream(section);
+    model.set_state([&](const Vec3&) { return inf; });
+  }
+  if (motion) {
+    // Before the first step the time-step estimate uses the motion's velocity at t = 0.
+    std::vector<Vec3>& w = *flow.mesh_velocity;
+    const auto x = model.positions();
+    for (std::size_t a = 0; a < w.size(); ++a)
+      for (int d = 0; d < 3; ++d)
+        w[a][d] = motion->displacement[static_cast<std::size_t>(d)].time_derivative(x[a], 0.0);
+    model.set_mesh_velocity(w);
+  }
+  return flow;
 }
 
 }  // namespace shellflow::setup

@@ -1,0 +1,82 @@
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "shellflow/io/case_meshes.h"
+#include "shellflow/run/run.h"
+#include "shellflow/run/run_kinds.h"
+
+namespace shellflow::run {
+namespace {
+
+/// The output folder: a new run's (created), or the folder of the checkpoint a restart
+/// continues. Every refusal comes before anything is written there.
+std::filesystem::path output_folder(const io::Case& c, const RunOptions& options,
+                                    std::optional<io::Checkpoint>& checkpoint) {
+  if (!options.stop.restart) return prepare_output_dir(c, options.output_dir);
+  checkpoint = load_restart(*options.stop.restart, c);
+  std::filesystem::path outdir = checkpoint->file.parent_path();
+  if (outdir.empty()) outdir = ".";
+  if (options.output_dir &&
+      std::filesystem::weakly_canonical(*options.output_dir) != std::filesystem::weakly_canonical(outdir))
+    throw Error(fmt::format("--restart {} continues the run in {}; drop -o {} (a restart writes into the folder of its "
+                            "checkpoint)",
+                            options.stop.restart->string(), outdir.string(), options.output_dir->string()));
+  return outdir;
+}
+
+/// The kind of run the case's sections ask for.
+void run_kind(const RunContext& run) {
+  const io::Case& c = run.c;
+  if (c.coupling) {
+    run_coupled(run);  // shell and flow (or piston theory, or only the fluid mesh) together
+  } else if (c.motion) {
+    run_mesh_motion(run);  // prescribed boundary motion, no flow: the mesh-motion tests
+  } else if (c.shell && c.shell->analysis) {
+    run_shell(run);
+  } else if (c.fluid && c.fluid->analysis) {
+    run_fluid(run);
+  } else {
+    run.control.not_time_stepping("a case without an analysis");
+    run.recorder.record(0, 0.0, Record::probes_and_fields);
+    spdlog::warn("nothing to integrate: the case has no 'motion', 'shell.analysis' or 'fluid.analysis' (or a "
+                 "'coupling' section); wrote the initial state (t = 0) only");
+  }
+}
+
+}  // namespace
+
+int run_case(const io::Case& c, const RunOptions& options) {
+  // 1. The output folder and the meshes (a restart does not save them again: the folder
+  // keeps the run's own).
+  std::optional<io::Checkpoint> checkpoint;
+  const std::filesystem::path outdir = output_folder(c, options, checkpoint);
+  spdlog::info("case '{}' -> {}", c.name, outdir.string());
+  const io::CaseMeshes meshes =
+      io::load_case_meshes(c, checkpoint ? std::nullopt : std::optional<std::filesystem::path>(outdir));
+  // 2. The checkpoint control; only now, with the case read and meshed, the earlier run's
+  // output goes (a case with an error keeps the old results; not for `study`, whose folder
+  // holds the points of a study to resume).
+  std::vector<io::SectionDigest> digests = c.digests;
+  for (const mesh::Mesh* m : meshes.all()) digests.push_back(io::mesh_digest(*m));
+  RunControl control(c, outdir, options.stop, std::move(checkpoint), std::move(digests));
+  if (!control.restarting()) remove_previous_run_output(outdir);
+  // 3. The recorder and the run.
+  Recorder recorder(c, meshes, outdir, control.output_mode());
+  PlotJobs plots;
+  const auto start = std::chrono::steady_clock::now();
+  run_kind({c, meshes, outdir, control, recorder, plots});
+  control.log_summary(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
+  // 4. The plots: the probes first, then the run kind's.
+  if (options.plot) {
+    plots.insert(plots.begin(), {"plot_probes.py", probe_plot_arguments(c, outdir)});
+    make_plots(plots);
+  }
+  if (!control.stopped()) return 0;
+  spdlog::warn("{}", control.stopped_message(options.case_file));
+  return kStoppedExitCode;
+}
+
+}  // namespace shellflow::run

@@ -1,0 +1,58 @@
+#include "shellflow/run/time_loop.h"
+
+#include <fmt/format.h>
+
+#include "shellflow/core/error.h"
+#include "shellflow/core/progress.h"
+
+namespace shellflow::run {
+
+long run_time_loop(const TimeLoop& loop, const std::function<double(long)>& advance,
+                   const std::function<void(long, Record)>& record, const std::function<double()>& time,
+                   RunControl* control) {
+  const auto more = [&](long completed) { return loop.steps > 0 ? completed < loop.steps : loop.more(completed); };
+  const long first = control ? control->first_step() : 1;
+  if (control) control->arm_signals();
+  Progress progress(0.0, loop.end_time);
+  long step = first;
+  const auto due = [&](long s) { return s % loop.every == 0 || !more(s); };
+  try {
+    for (; more(step - 1); ++step) {
+      const double t = advance(step);
+      const bool last = !more(step);
+      record(step, due(step) ? Record::probes_and_fields : Record::probes);
+      progress.update(t, step);
+      if (!control) continue;
+      const bool stop = !last && control->stop_due(step - first + 1);
+      if (control->checkpoint_due(step) || stop) control->write_checkpoint(step, time());
+      if (stop) {
+        if (!due(step)) record(step, Record::fields);  // after the checkpoint: a restart drops this frame
+        control->mark_stopped(step, time());
+        break;
+      }
+    }
+  } catch (const SolverError& e) {
+    progress.finish();
+    // The solvers keep their last valid states (those of step - 1): write them before reporting.
+    if (!due(step - 1)) record(step - 1, Record::fields);
+    throw SolverError(fmt::format("{} (step {}); the last valid state (t = {:.6g} s) is in {}", e.what(), step,
+                                  time(), loop.outdir.string()));
+  }
+  progress.finish();
+  return control && control->stopped() ? step : step - 1;
+}
+
+long step_in_time(RunControl& control, Recorder& recorder, const TimeStepping& s) {
+  recorder.register_outputs(control);
+  control.set_state(s.kind, s.save, s.restore);
+  if (control.restarting()) {
+    control.restore();
+  } else {
+    if (s.before_frame_0) s.before_frame_0();
+    recorder.record(0, s.time(), Record::probes_and_fields);
+  }
+  return run_time_loop(
+      s.loop, s.advance, [&](long step, Record what) { recorder.record(step, s.time(), what); }, s.time, &control);
+}
+
+}  // namespace shellflow::run
