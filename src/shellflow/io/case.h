@@ -10,8 +10,9 @@
 // meshes are loaded; every group reference keeps the file, line and key path it came from.
 //
 // Adding a section (a later module's parameters): add a struct and an
-// `std::optional<Section>` member to Case, read it in case.cpp with a `read_<section>()` that
-// uses YamlNode and ends with `finish()`, and document it in docs/case-format.md.
+// `std::optional<Section>` member to Case, read it in a case_<section>.cpp of its own with a
+// `read_<section>()` that uses YamlNode and ends with `finish()` (declared in case_sections.h,
+// called from read_case() in case.cpp), and document it in docs/case-format.md.
 #include <array>
 #include <cmath>
 #include <filesystem>
