@@ -15,10 +15,6 @@ namespace shellflow::io {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kFluidBoundaryNames = {
-    "supersonic_inflow", "supersonic_outflow", "far_field",
-    "slip_wall",         "no_slip_wall",       "symmetry"};
-
 /// Variables of the space-time expressions of a case file, in the order SpaceTimeScalar
 /// passes them: initial coordinates, then time.
 constexpr std::array<std::string_view, 4> kSpaceTimeVariables = {"x", "y", "z", "t"};
@@ -115,7 +111,7 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
     FluidBoundary b;
     b.where = item.location();
     b.group = read_group(item, "fluid", refs);
-    b.type = item.enumeration<FluidBoundaryType>("type", kFluidBoundaryNames);
+    b.type = read_enum(item, "type", kFluidBoundaryTypes);
     if (auto s = item.optional_child("state")) {
       if (b.type != FluidBoundaryType::supersonic_inflow && b.type != FluidBoundaryType::far_field) {
         item.fail("state", fmt::format("a '{}' boundary takes no state; only supersonic_inflow "
@@ -213,8 +209,6 @@ void SpaceTimeScalar::fail_non_finite(const Vec3& X, double t, double value, boo
       X.x(), X.y(), X.z(), t, cause.empty() ? std::string() : fmt::format(" ({}?)", cause)));
 }
 
-std::string_view to_string(FluidBoundaryType t) {
-  return kFluidBoundaryNames[static_cast<std::size_t>(t)];
-}
+std::string_view to_string(FluidBoundaryType t) { return detail::name_of(detail::kFluidBoundaryTypes, t); }
 
 }  // namespace shellflow::io

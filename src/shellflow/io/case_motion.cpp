@@ -12,10 +12,6 @@ namespace shellflow::io {
 
 namespace {
 
-constexpr std::array<std::string_view, 3> kMotionMethodNames = {"space_mesh", "direct_idw",
-                                                                "laplace"};
-constexpr std::array<std::string_view, 2> kWeightingNames = {"plain", "area"};
-
 std::vector<std::string> read_group_list(const YamlNode& node, std::string_view key,
                                          const std::vector<std::string_view>& meshes,
                                          std::vector<GroupReference>& refs) {
@@ -37,7 +33,7 @@ MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes,
                           std::vector<GroupReference>& refs) {
   MotionSection m;
   m.where = node.location();
-  m.method = node.enumeration<MotionMethod>("method", kMotionMethodNames, MotionMethod::space_mesh);
+  m.method = read_enum(node, "method", kMotionMethods, MotionMethod::space_mesh);
   if (m.method == MotionMethod::space_mesh) require_mesh(node, meshes, "space");
   std::vector<std::string_view> group_meshes{"fluid"};
   if (m.method == MotionMethod::space_mesh) group_meshes.push_back("space");
@@ -49,7 +45,7 @@ MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes,
   m.sliding_groups = read_group_list(node, "sliding_groups", group_meshes, refs);
   m.interface_exponent = node.optional<double>("interface_exponent", 4.0, Range::positive());
   m.fixed_exponent = node.optional<double>("fixed_exponent", 4.0, Range::positive());
-  m.weighting = node.enumeration<MotionWeighting>("weighting", kWeightingNames, MotionWeighting::plain);
+  m.weighting = read_enum(node, "weighting", kMotionWeightings, MotionWeighting::plain);
   if (auto p = node.optional_child("prescribed")) {
     PanelModesSpec spec;
     spec.where = p->location();
@@ -76,9 +72,7 @@ MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes,
 
 }  // namespace detail
 
-std::string_view to_string(MotionMethod m) {
-  return kMotionMethodNames[static_cast<std::size_t>(m)];
-}
-std::string_view to_string(MotionWeighting w) { return kWeightingNames[static_cast<std::size_t>(w)]; }
+std::string_view to_string(MotionMethod m) { return detail::name_of(detail::kMotionMethods, m); }
+std::string_view to_string(MotionWeighting w) { return detail::name_of(detail::kMotionWeightings, w); }
 
 }  // namespace shellflow::io

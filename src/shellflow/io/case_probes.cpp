@@ -18,11 +18,6 @@ using detail::join;
 using detail::read_group;
 using detail::read_name;
 
-constexpr std::array<std::string_view, 5> kComponentNames = {"x", "y", "z", "magnitude", "scalar"};
-constexpr std::array<std::string_view, 4> kVectorComponentNames = {"x", "y", "z", "magnitude"};
-constexpr std::array<std::string_view, 3> kLocationNames = {"point", "node", "group"};
-constexpr std::array<std::string_view, 3> kReduceNames = {"mean", "min", "max"};
-
 constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
     {"shell", "displacement", true},
     {"shell", "velocity", true},
@@ -84,8 +79,8 @@ Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
   }
 
   if (quantity->is_vector) {
-    p.component = item.enumeration<ProbeComponent>("component", kVectorComponentNames,
-                                                   ProbeComponent::magnitude);
+    p.component = detail::read_enum(item, "component", detail::kVectorProbeComponents,
+                                    ProbeComponent::magnitude);
   } else {
     p.component = ProbeComponent::scalar;
     if (item.has("component")) {
@@ -108,7 +103,7 @@ Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
     p.group = read_group(item, p.mesh, refs);
   }
   if (p.location == ProbeLocation::group) {
-    p.reduce = item.enumeration<ProbeReduce>("reduce", kReduceNames, ProbeReduce::mean);
+    p.reduce = detail::read_enum(item, "reduce", detail::kProbeReductions, ProbeReduce::mean);
   } else if (item.has("reduce")) {
     item.fail("reduce", "applies only to probes on a 'group'");
   }
@@ -142,10 +137,8 @@ std::vector<Probe> read_probes(const YamlNode& root, const MeshesSection& meshes
 
 std::span<const ProbeQuantity> probe_quantities() { return kProbeQuantities; }
 
-std::string_view to_string(ProbeComponent c) {
-  return kComponentNames[static_cast<std::size_t>(c)];
-}
-std::string_view to_string(ProbeLocation l) { return kLocationNames[static_cast<std::size_t>(l)]; }
-std::string_view to_string(ProbeReduce r) { return kReduceNames[static_cast<std::size_t>(r)]; }
+std::string_view to_string(ProbeComponent c) { return detail::name_of(detail::kProbeComponents, c); }
+std::string_view to_string(ProbeLocation l) { return detail::name_of(detail::kProbeLocations, l); }
+std::string_view to_string(ProbeReduce r) { return detail::name_of(detail::kProbeReductions, r); }
 
 }  // namespace shellflow::io

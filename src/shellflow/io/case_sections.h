@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "shellflow/io/case.h"
+#include "shellflow/io/case_names.h"
 #include "shellflow/io/yaml_reader.h"
 
 namespace shellflow::io::detail {

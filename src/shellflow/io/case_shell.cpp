@@ -12,11 +12,6 @@ namespace shellflow::io {
 
 namespace {
 
-constexpr std::array<std::string_view, 6> kSupportNames = {
-    "clamped", "simply_supported", "symmetry", "sliding", "prescribed", "simply_supported_hard"};
-constexpr std::array<std::string_view, 6> kShellLoadNames = {
-    "line", "point", "edge_couple", "pressure", "gravity", "surface"};
-constexpr std::array<std::string_view, 3> kAnalysisNames = {"static", "dynamic", "modal"};
 // Keys of the static and dynamic shell analyses with the types they belong to, refused by
 // name in a modal one: a modal analysis follows no load path and no time, and the message
 // says where the key belongs rather than "unknown key".
@@ -54,7 +49,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     Support s;
     s.where = item.location();
     s.group = read_group(item, "shell", refs);
-    s.type = item.enumeration<SupportType>("type", kSupportNames);
+    s.type = read_enum(item, "type", kSupportTypes);
     if (s.type == SupportType::sliding) {
       s.direction = unit_vector(item, "direction", item.vec3("direction"));
       s.clamp_director = item.optional<bool>("clamp_director", true);
@@ -94,7 +89,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     item.expect_map();
     ShellLoad load;
     load.where = item.location();
-    load.type = item.enumeration<ShellLoadType>("type", kShellLoadNames);
+    load.type = read_enum(item, "type", kShellLoadTypes);
     switch (load.type) {
       case ShellLoadType::line:
         load.group = read_group(item, "shell", refs);
@@ -125,10 +120,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
   if (auto a = node.optional_child("analysis")) {
     ShellAnalysis analysis;
     analysis.where = a->location();
-    const auto type = a->choice("type", kAnalysisNames);
-    analysis.type = type == "static"    ? ShellAnalysisType::static_load
-                    : type == "dynamic" ? ShellAnalysisType::dynamic
-                                        : ShellAnalysisType::modal;
+    analysis.type = read_enum(*a, "type", kShellAnalysisTypes);
     if (analysis.type == ShellAnalysisType::modal) {
       for (const auto& [key, types] : kLoadPathKeys) {
         if (a->has(key)) {
@@ -202,7 +194,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
 
 }  // namespace detail
 
-std::string_view to_string(SupportType t) { return kSupportNames[static_cast<std::size_t>(t)]; }
-std::string_view to_string(ShellLoadType t) { return kShellLoadNames[static_cast<std::size_t>(t)]; }
+std::string_view to_string(SupportType t) { return detail::name_of(detail::kSupportTypes, t); }
+std::string_view to_string(ShellLoadType t) { return detail::name_of(detail::kShellLoadTypes, t); }
 
 }  // namespace shellflow::io

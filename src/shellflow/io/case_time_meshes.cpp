@@ -15,11 +15,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr std::array<std::string_view, 2> kMeshFormatNames = {"geo", "msh"};
-enum class TimeFunctionType { constant, ramp, sine, tabulated, step, smooth_step, expression };
-constexpr std::array<std::string_view, 7> kTimeFunctionNames = {
-    "constant", "ramp", "sine", "tabulated", "step", "smooth_step", "expression"};
-
 MeshSpec read_mesh(const YamlNode& node, std::string_view key, int default_order) {
   MeshSpec spec;
   spec.key = std::string(key);
@@ -82,7 +77,7 @@ TimeSection read_time(const YamlNode& node) {
 TimeFunction read_time_function(const YamlNode& node) {
   node.expect_map();
   TimeFunction f = TimeFunction::constant(0.0);
-  switch (node.enumeration<TimeFunctionType>("type", kTimeFunctionNames)) {
+  switch (read_enum(node, "type", kTimeFunctionTypes)) {
     case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
     case TimeFunctionType::ramp:
       f = TimeFunction::ramp(node.required<double>("value"),
@@ -140,6 +135,6 @@ const MeshSpec* MeshesSection::find(std::string_view key) const {
   return nullptr;
 }
 
-std::string_view to_string(MeshFormat f) { return kMeshFormatNames[static_cast<std::size_t>(f)]; }
+std::string_view to_string(MeshFormat f) { return detail::name_of(detail::kMeshFormats, f); }
 
 }  // namespace shellflow::io
