@@ -14,7 +14,10 @@
 //   case_output.cpp           `output`
 //   case_study.cpp            `study`
 //
-// (case_meshes.cpp does not read the case file: it meshes or loads the meshes it names.)
+// The structs of the shell, fluid and motion sections are declared in case_shell.h,
+// case_fluid.h and case_motion.h (included by case.h), the others in case.h. case_names.h
+// holds the names of the enumerations. (case_meshes.cpp does not read the case file: it
+// meshes or loads the meshes it names.)
 #include <string>
 #include <string_view>
 #include <vector>
