@@ -28,7 +28,8 @@
 
 namespace shellflow::io::detail {
 
-// ---- helpers shared by the section readers (case.cpp, case_time_meshes.cpp) -------------------
+// ---- helpers shared by the section readers ----------------------------------------------------
+// Defined in case.cpp; read_time_function() in case_time_meshes.cpp.
 
 /// `items` joined with `sep`.
 std::string join(const std::vector<std::string>& items, std::string_view sep);
