@@ -10,11 +10,7 @@
 
 namespace shellflow::io {
 
-namespace {
-constexpr std::string_view kParameterNames[] = {"mach", "density", "dynamic_pressure", "thickness"};
-}
-
-std::string_view to_string(StudySection::Parameter p) { return kParameterNames[static_cast<int>(p)]; }
+std::string_view to_string(StudySection::Parameter p) { return detail::name_of(detail::kStudyParameters, p); }
 
 namespace detail {
 
@@ -22,7 +18,7 @@ StudySection read_study(const YamlNode& node, const Case& c) {
   StudySection s;
   s.where = node.location();
   node.expect_map();
-  s.parameter = node.enumeration<StudySection::Parameter>("parameter", kParameterNames);
+  s.parameter = read_enum(node, "parameter", kStudyParameters);
   const auto range = node.list("range");
   if (range.size() != 2) node.fail("range", fmt::format("expected [lo, hi], got a list of {} values", range.size()));
   s.lo = range[0].as<double>();

@@ -1,3 +1,5 @@
+// The YAML reader: messages (SourceLocation, Range, suggestions) and the reading of keys,
+// values, children and unread keys; loading a document is in yaml_reader_load.cpp.
 #include "shellflow/io/yaml_reader.h"
 
 #include <fmt/format.h>
@@ -6,24 +8,11 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <system_error>
 #include <utility>
 
-// GCC 12 at -O2/-O3 reports false -Wdangling-pointer warnings inside yaml-cpp 0.7's inline
-// Node accessors (InvalidNode(m_invalidKey)); they are not ours to fix.
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wdangling-pointer"
-#endif
-#include <yaml-cpp/eventhandler.h>
-#include <yaml-cpp/yaml.h>
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 12
-#pragma GCC diagnostic pop
-#endif
-
 #include "shellflow/core/error.h"
+#include "shellflow/io/yaml_node_impl.h"
 
 namespace shellflow::io {
 
@@ -130,184 +119,35 @@ std::optional<std::string> closest_match(std::string_view word,
   return best;
 }
 
-// ---- YamlNode internals -----------------------------------------------------------------------
+// ---- YamlNode internals (yaml_node_impl.h) ----------------------------------------------------
 
 namespace {
 
-struct Document {
-  std::string file;
-  fs::path base_dir;
-};
-
-std::string describe_value(const YAML::Node& node) {
-  if (!node.IsDefined() || node.IsNull()) return "an empty value";
-  if (node.IsMap()) return "a map";
-  if (node.IsSequence()) return node.size() == 0 ? "an empty list" : "a list";
-  const std::string& text = node.Scalar();
-  return text.size() <= 60 ? fmt::format("'{}'", text) : fmt::format("'{}...' ({} characters)", text.substr(0, 60), text.size());
-}
-
-int line_of(const YAML::Mark& mark, int fallback) {
-  return mark.is_null() || mark.line < 0 ? fallback : mark.line + 1;
-}
-
-/// Records where each document of a stream starts (the mark of its first event).
-class DocumentCounter : public YAML::EventHandler {
- public:
-  std::optional<YAML::Mark> first_mark;  ///< of the current document's first node
-  void OnDocumentStart(const YAML::Mark&) override { first_mark.reset(); }
-  void OnDocumentEnd() override {}
-  void OnNull(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
-  void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
-  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                const std::string&) override {
-    note(m);
-  }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                       YAML::EmitterStyle::value) override {
-    note(m);
-  }
-  void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                  YAML::EmitterStyle::value) override {
-    note(m);
-  }
-  void OnMapEnd() override {}
-
- private:
-  void note(const YAML::Mark& m) {
-    if (!first_mark) first_mark = m;
-  }
-};
-
-/// What to do about a YAML syntax error at 1-based `line` of `text` (0: unknown).
-std::string syntax_hint(std::string_view text, int line) {
-  std::size_t start = 0;
-  for (int l = 1; l < line && start != std::string_view::npos; ++l) {
-    start = text.find('\n', start);
-    if (start != std::string_view::npos) ++start;
-  }
-  if (line > 0 && start != std::string_view::npos) {
-    const std::string_view rest = text.substr(start);
-    const std::string_view indent = rest.substr(0, rest.find_first_not_of(" \t"));
-    if (indent.find('\t') != std::string_view::npos) return "indent with spaces: YAML does not allow tabs there";
-  }
-  return "check the brackets, quotes, ':' and indentation of this line and the one before it";
-}
-
-/// Number of documents in `text` and the 1-based line of the second one's first node.
-/// A document that starts where the previous one started (the parser makes no progress, as
-/// yaml-cpp 0.7 does on a lone ',') is a syntax error at that character.
-std::pair<int, int> count_documents(const std::string& text) {
-  std::istringstream in(text);
-  YAML::Parser parser(in);
-  DocumentCounter counter;
-  int count = 0, second_line = 0;
-  std::optional<int> previous_pos;
-  while (parser.HandleNextDocument(counter)) {
-    const YAML::Mark mark = counter.first_mark.value_or(YAML::Mark::null_mark());
-    const int pos = mark.is_null() ? -1 : mark.pos;
-    if (previous_pos && pos <= *previous_pos) {
-      std::size_t at = pos >= 0 ? static_cast<std::size_t>(pos) : 0;
-      while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
-      const auto byte = at < text.size() ? static_cast<unsigned char>(text[at]) : 0;
-      const std::string what = at >= text.size() ? std::string("unexpected text")
-                               : byte >= 0x20 && byte < 0x7f ? fmt::format("unexpected '{}'", text[at])
-                                                             : fmt::format("unexpected byte \\x{:02x}", byte);
-      throw YAML::ParserException(mark, what);
-    }
-    previous_pos = pos;
-    ++count;
-    if (count == 2) second_line = line_of(mark, 1);
-  }
-  return {count, second_line};
-}
+using detail::describe_value;
+using detail::line_of;
 
 }  // namespace
 
-struct YamlNode::Impl {
-  struct Entry {
-    std::string key;
-    int line = 0;
-    YAML::Node value;
-    bool read = false;
-    std::shared_ptr<Impl> child;  ///< set once the value was opened as a map or a list
-  };
-
-  std::shared_ptr<const Document> doc;
-  YAML::Node node;
-  std::string path;
-  int line = 1;
-  std::vector<Entry> entries;                ///< for a map, in document order
-  std::vector<std::shared_ptr<Impl>> items;  ///< for a list, once opened
-  std::vector<std::string> known;            ///< keys the reader asked for, in order
-
-  SourceLocation where() const { return {doc->file, line, path}; }
-  std::string path_of(std::string_view key) const {
-    return path.empty() ? std::string(key) : fmt::format("{}.{}", path, key);
-  }
-  [[noreturn]] void fail(std::string_view what) const { throw_at(where(), what); }
-
-  Entry* find(std::string_view key) {
-    for (auto& e : entries) {
-      if (e.key == key) return &e;
-    }
-    return nullptr;
-  }
-  void add_known(std::string_view key) {
-    if (std::find(known.begin(), known.end(), key) == known.end()) known.emplace_back(key);
-  }
-
-  static std::shared_ptr<Impl> make(std::shared_ptr<const Document> doc, YAML::Node node,
-                                    std::string path, int line) {
-    auto impl = std::make_shared<Impl>();
-    impl->doc = std::move(doc);
-    impl->node = std::move(node);
-    impl->path = std::move(path);
-    impl->line = line;
-    if (impl->node.IsMap()) impl->index_entries();
-    return impl;
-  }
-
-  void index_entries() {
-    for (auto it = node.begin(); it != node.end(); ++it) {
-      // By value: `it->first` lives in a proxy that dies at the end of the statement.
-      const YAML::Node key = it->first;
-      const YAML::Node value = it->second;
-      const int key_line = line_of(key.Mark(), line);
-      if (!key.IsScalar()) {
-        throw_at({doc->file, key_line, path},
-                 "expected a plain key name, got " + describe_value(key));
+void YamlNode::Impl::collect_unread(std::vector<std::pair<int, std::string>>& out) const {
+  for (const auto& e : entries) {
+    if (!e.read) {
+      std::string what;
+      if (std::find(known.begin(), known.end(), e.key) != known.end()) {
+        what = "key not allowed here";
+      } else if (auto suggestion = closest_match(e.key, known)) {
+        what = fmt::format("unknown key; did you mean '{}'?", *suggestion);
+      } else if (!known.empty()) {
+        what = fmt::format("unknown key; expected one of: {}", join(known, ", "));
+      } else {
+        what = "unknown key; this section takes no keys";
       }
-      if (const Entry* first = find(key.Scalar())) {
-        throw_at({doc->file, key_line, path_of(key.Scalar())},
-                 fmt::format("duplicate key; it was first given at line {}", first->line));
-      }
-      entries.push_back({key.Scalar(), key_line, value, false, nullptr});
+      out.emplace_back(e.line, SourceLocation{doc->file, e.line, path_of(e.key)}.message(what));
+    } else if (e.child) {
+      e.child->collect_unread(out);
     }
   }
-
-  void collect_unread(std::vector<std::pair<int, std::string>>& out) const {
-    for (const auto& e : entries) {
-      if (!e.read) {
-        std::string what;
-        if (std::find(known.begin(), known.end(), e.key) != known.end()) {
-          what = "key not allowed here";
-        } else if (auto suggestion = closest_match(e.key, known)) {
-          what = fmt::format("unknown key; did you mean '{}'?", *suggestion);
-        } else if (!known.empty()) {
-          what = fmt::format("unknown key; expected one of: {}", join(known, ", "));
-        } else {
-          what = "unknown key; this section takes no keys";
-        }
-        out.emplace_back(e.line, SourceLocation{doc->file, e.line, path_of(e.key)}.message(what));
-      } else if (e.child) {
-        e.child->collect_unread(out);
-      }
-    }
-    for (const auto& item : items) item->collect_unread(out);
-  }
-};
+  for (const auto& item : items) item->collect_unread(out);
+}
 
 YamlNode::YamlNode() = default;
 YamlNode::~YamlNode() = default;
@@ -316,105 +156,6 @@ YamlNode& YamlNode::operator=(const YamlNode&) = default;
 YamlNode::YamlNode(YamlNode&&) noexcept = default;
 YamlNode& YamlNode::operator=(YamlNode&&) noexcept = default;
 YamlNode::YamlNode(std::shared_ptr<Impl> impl) : impl_(std::move(impl)) {}
-
-// ---- loading ----------------------------------------------------------------------------------
-
-KeyOverride KeyOverride::parse(std::string_view text, std::string_view option) {
-  const auto eq = text.find('=');
-  if (eq == std::string_view::npos || eq == 0)
-    throw InputError(fmt::format("{} '{}': expected KEY=VALUE, e.g. {} fluid.free_stream.mach=2.1", option, text,
-                                 option));
-  return {std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
-}
-
-namespace {
-
-/// Applies the overrides to the document's root map.
-void apply_overrides(YAML::Node root, std::span<const KeyOverride> overrides, const std::string& file) {
-  for (const KeyOverride& o : overrides) {
-    std::vector<std::string> keys;
-    for (std::size_t start = 0;;) {
-      const auto dot = o.path.find('.', start);
-      keys.push_back(o.path.substr(start, dot == std::string::npos ? std::string::npos : dot - start));
-      if (dot == std::string::npos) break;
-      start = dot + 1;
-    }
-    for (const auto& k : keys)
-      if (k.empty())
-        throw InputError(fmt::format("{}: --set {}: empty key in the path; write keys like fluid.free_stream.mach",
-                                     file, o.path));
-    YAML::Node value;
-    try {
-      value = YAML::Load(o.value);
-    } catch (const YAML::Exception& e) {
-      throw InputError(fmt::format("{}: --set {}={}: the value is not valid YAML ({})", file, o.path, o.value, e.msg));
-    }
-    YAML::Node node = root;
-    std::string walked;
-    for (std::size_t i = 0; i + 1 < keys.size(); ++i) {
-      walked += (walked.empty() ? "" : ".") + keys[i];
-      YAML::Node next = node[keys[i]];
-      if (!next.IsDefined() || next.IsNull()) {
-        node[keys[i]] = YAML::Node(YAML::NodeType::Map);
-        next = node[keys[i]];
-      } else if (!next.IsMap()) {
-        throw InputError(fmt::format("{}: --set {}: '{}' is not a map of keys in the case file", file, o.path, walked));
-      }
-      node.reset(next);
-    }
-    node[keys.back()] = value;
-  }
-}
-
-}  // namespace
-
-YamlNode YamlNode::load_string(std::string_view text, const fs::path& file, std::span<const KeyOverride> overrides) {
-  auto doc = std::make_shared<Document>();
-  doc->file = file.string();
-  doc->base_dir = file.parent_path();
-  // yaml-cpp 0.7's LoadAll loops forever on some malformed streams (a lone ','): count the
-  // documents with the event parser, stopping when a document starts where the previous one
-  // did, then build the first document alone with Load.
-  const std::string owned(text);
-  YAML::Node root;
-  try {
-    const auto [count, second_line] = count_documents(owned);
-    if (count > 1) {
-      throw_at({doc->file, second_line, {}},
-               fmt::format("expected one YAML document, found {}; remove the '---' separators",
-                           count));
-    }
-    root = YAML::Load(owned);
-  } catch (const YAML::Exception& e) {
-    const int line = line_of(e.mark, 0);
-    throw_at({doc->file, line, {}}, fmt::format("YAML syntax error: {}; {}", e.msg, syntax_hint(owned, line)));
-  }
-  if (!root.IsMap()) {
-    throw_at({doc->file, 1, {}},
-             fmt::format("expected a map of keys at the top level, got {}",
-                         root.IsNull() ? std::string("an empty document") : describe_value(root)));
-  }
-  apply_overrides(root, overrides, doc->file);
-  return YamlNode(Impl::make(std::move(doc), root, {}, 1));
-}
-
-YamlNode YamlNode::load_file(const fs::path& file, std::span<const KeyOverride> overrides) {
-  std::error_code ec;
-  if (fs::is_directory(file, ec)) {
-    throw InputError(fmt::format("{}: cannot open case file (it is a directory)", file.string()));
-  }
-  std::ifstream in(file, std::ios::binary);
-  if (!in) {
-    const char* reason = fs::exists(file, ec) ? "permission denied" : "no such file";
-    throw InputError(fmt::format("{}: cannot open case file ({})", file.string(), reason));
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) {
-    throw InputError(fmt::format("{}: cannot open case file (read error)", file.string()));
-  }
-  return load_string(text.str(), file, overrides);
-}
 
 // ---- location -----------------------------------------------------------------------------------
 
