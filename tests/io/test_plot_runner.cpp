@@ -1,12 +1,8 @@
 // io::PlotRunner: several plots drawn by one tools/plot_run.py process; a failing plot is a
 // warning, never an exception.
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ostream_sink.h>
-#include <spdlog/spdlog.h>
 
 #include <fstream>
-#include <memory>
-#include <sstream>
 
 #include "io_test_util.h"
 #include "shellflow/io/plot_runner.h"
@@ -14,24 +10,7 @@
 namespace shellflow::io {
 namespace {
 
-/// Routes spdlog's default logger into a string for the test's lifetime.
-class LogCapture {
- public:
-  LogCapture() : previous_(spdlog::default_logger()) {
-    auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(text_);
-    auto logger = std::make_shared<spdlog::logger>("capture", sink);
-    logger->set_level(spdlog::level::info);
-    spdlog::set_default_logger(logger);
-  }
-  ~LogCapture() { spdlog::set_default_logger(previous_); }
-  LogCapture(const LogCapture&) = delete;
-  LogCapture& operator=(const LogCapture&) = delete;
-  std::string text() const { return text_.str(); }
-
- private:
-  std::shared_ptr<spdlog::logger> previous_;
-  std::ostringstream text_;
-};
+using test::LogCapture;
 
 void write_probes_csv(const std::filesystem::path& file, int probes) {
   std::ofstream out(file);
