@@ -55,7 +55,9 @@ def make_axes(n, x_label):
     axes = []
     for k in range(n):
         row, col = k % nrows, k // nrows  # down the columns, in the CSV's order
-        ax = fig.add_subplot(grid[row, col], sharex=axes[0] if axes else None)
+        # Not sharex: matplotlib then aligns each axis's labels with all its siblings
+        # (quadratic in the panels); main() gives every panel the same limits instead.
+        ax = fig.add_subplot(grid[row, col])
         last_in_column = row == nrows - 1 or k == n - 1
         if last_in_column:
             ax.set_xlabel(x_label)
@@ -116,6 +118,12 @@ def main(argv=None):
         if len(axes) > ONE_COLUMN_MAX:
             ax.locator_params(nbins=4)  # matplotlib's ticks are costly objects: fewer of them
         ax.grid(True, alpha=0.3)
+    lows = [ax.dataLim.x0 for ax in axes if ax.has_data()]
+    highs = [ax.dataLim.x1 for ax in axes if ax.has_data()]
+    if lows and max(highs) > min(lows):  # one abscissa range for all, with matplotlib's 5 % margins
+        pad = 0.05 * (max(highs) - min(lows))
+        for ax in axes:
+            ax.set_xlim(min(lows) - pad, max(highs) + pad)
     if not names:
         axes[0].text(0.5, 0.5, "no probes declared", ha="center", transform=axes[0].transAxes)
     fig.savefig(output, dpi=120)
