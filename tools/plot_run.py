@@ -15,6 +15,8 @@ import sys
 import time
 import traceback
 
+sys.dont_write_bytecode = True  # importing the scripts must not write tools/__pycache__ (a run writes only its folder)
+
 import matplotlib
 
 matplotlib.use("Agg")
