@@ -98,13 +98,13 @@ def response_text(r, scale, unit):
     return "\n".join(lines)
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("csv")
     parser.add_argument("-o", "--outdir")
     parser.add_argument("--start", type=float, default=0.01,
                         help="fit the growth from this time on (default 0.01 s: after the start-up)")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     outdir = args.outdir or os.path.dirname(args.csv) or "."
     with open(args.csv, newline="") as f:
         rows = list(csv.reader(f))

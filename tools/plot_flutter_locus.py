@@ -24,13 +24,13 @@ def number(text):
     return float(text) if text not in ("", "null", "nan") else math.nan
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv")
     ap.add_argument("--summary", help="flutter.json (critical point, parameter name)")
     ap.add_argument("-o", "--output", help="PNG (default: flutter_locus.png next to the CSV)")
     ap.add_argument("--roots", type=int, default=6, help="lowest roots plotted (default 6)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
 
     summary = {}
     if args.summary and os.path.exists(args.summary):
@@ -93,4 +93,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -33,7 +33,7 @@ def interpolate(xs, ys, x):
     raise ValueError(f"load factor {x} outside the run's range")
 
 
-def main():
+def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("probes")
     p.add_argument("reference")
@@ -41,7 +41,7 @@ def main():
     p.add_argument("--u", default="tip_u")
     p.add_argument("--w", default="tip_w")
     p.add_argument("--check", type=float)
-    a = p.parse_args()
+    a = p.parse_args(argv)
     header, data = read_csv(a.probes)
     _, ref = read_csv(a.reference)
     lam = [r[0] for r in data]

@@ -39,11 +39,11 @@ def first_block(m, names):
     return None, None
 
 
-def main():
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("outdir")
     parser.add_argument("-o", "--output")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     output = args.output or os.path.join(args.outdir, "meshes.png")
 
     fig = plt.figure(figsize=(12, 8))

@@ -10,6 +10,7 @@ lines starting with # are comments) in PROBE's panel, as `shellflow run` does fo
 """
 import argparse
 import csv
+import math
 import os
 import sys
 
@@ -31,7 +32,42 @@ def read_reference(path, column, scale):
     return [float(r[0]) for r in rows[1:]], [scale * float(r[col]) for r in rows[1:]]
 
 
-def main():
+# Up to this many probes: one column of 8 x 2.2 in panels, the probe's name as the y label.
+# More: a grid of at most ROWS_MAX rows of smaller panels, the name as the panel's title.
+ONE_COLUMN_MAX = 8
+ROWS_MAX = 12
+
+
+def make_axes(n, x_label):
+    """A figure with n panels sharing the abscissa, laid out by fixed margins computed from n
+    (matplotlib's tight_layout measures every text of every panel: seconds for 48 panels)."""
+    ncols = 1 if n <= ONE_COLUMN_MAX else math.ceil(n / ROWS_MAX)
+    nrows = math.ceil(n / ncols)
+    panel_w, panel_h = (6.9, 1.6) if ncols == 1 else (3.4, 1.45)  # axes size [in]
+    gap_w, gap_h = 0.9, (0.6 if ncols == 1 else 0.45)  # room for tick labels, titles [in]
+    left, right, top, bottom = 0.9, 0.2, (0.2 if ncols == 1 else 0.45), 0.55
+    width = left + right + ncols * panel_w + (ncols - 1) * gap_w
+    height = bottom + top + nrows * panel_h + (nrows - 1) * gap_h
+    fig = plt.figure(figsize=(width, height))
+    fig.subplots_adjust(left=left / width, right=1 - right / width, bottom=bottom / height, top=1 - top / height,
+                        wspace=gap_w / panel_w, hspace=gap_h / panel_h)
+    grid = fig.add_gridspec(nrows, ncols)
+    axes = []
+    for k in range(n):
+        row, col = k % nrows, k // nrows  # down the columns, in the CSV's order
+        # Not sharex: matplotlib then aligns each axis's labels with all its siblings
+        # (quadratic in the panels); main() gives every panel the same limits instead.
+        ax = fig.add_subplot(grid[row, col])
+        last_in_column = row == nrows - 1 or k == n - 1
+        if last_in_column:
+            ax.set_xlabel(x_label)
+        else:
+            ax.tick_params(labelbottom=False)
+        axes.append(ax)
+    return fig, axes
+
+
+def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("csv")
     parser.add_argument("-o", "--output")
@@ -42,7 +78,7 @@ def main():
     parser.add_argument("--reference", nargs=5, action="append", default=[],
                         metavar=("PROBE", "FILE", "COLUMN", "SCALE", "LABEL"),
                         help="draw SCALE * COLUMN of FILE (first column: the abscissa) beside PROBE")
-    args = parser.parse_args()
+    args = parser.parse_args(argv)
     output = args.output or os.path.splitext(args.csv)[0] + ".png"
 
     with open(args.csv, newline="") as f:
@@ -57,9 +93,8 @@ def main():
         return 1
     names = args.probes or [h for h in header if h not in ("time", args.x)]
     time = [float(r[header.index(args.x)]) for r in data]
-    n = max(1, len(names))
-    fig, axes = plt.subplots(n, 1, figsize=(8, 2.2 * n + 0.6), sharex=True, squeeze=False)
-    for ax, name in zip(axes[:, 0], names):
+    fig, axes = make_axes(max(1, len(names)), args.x_label or ("time [s]" if args.x == "time" else args.x))
+    for ax, name in zip(axes, names):
         if name not in header:
             print(f"plot_probes: no probe '{name}' in {args.csv}", file=sys.stderr)
             return 1
@@ -76,12 +111,21 @@ def main():
                   f"({len(curve[0])} points)")
         if references:
             ax.legend(fontsize=8)
-        ax.set_ylabel(name)
+        if len(axes) > ONE_COLUMN_MAX:
+            ax.set_title(name, fontsize=9, y=1.0)  # a fixed y: no search for the tick labels
+        else:
+            ax.set_ylabel(name)
+        if len(axes) > ONE_COLUMN_MAX:
+            ax.locator_params(nbins=4)  # matplotlib's ticks are costly objects: fewer of them
         ax.grid(True, alpha=0.3)
+    lows = [ax.dataLim.x0 for ax in axes if ax.has_data()]
+    highs = [ax.dataLim.x1 for ax in axes if ax.has_data()]
+    if lows and max(highs) > min(lows):  # one abscissa range for all, with matplotlib's 5 % margins
+        pad = 0.05 * (max(highs) - min(lows))
+        for ax in axes:
+            ax.set_xlim(min(lows) - pad, max(highs) + pad)
     if not names:
-        axes[0, 0].text(0.5, 0.5, "no probes declared", ha="center", transform=axes[0, 0].transAxes)
-    axes[-1, 0].set_xlabel(args.x_label or ("time [s]" if args.x == "time" else args.x))
-    fig.tight_layout()
+        axes[0].text(0.5, 0.5, "no probes declared", ha="center", transform=axes[0].transAxes)
     fig.savefig(output, dpi=120)
     print(f"plot_probes: wrote {output}")
     return 0

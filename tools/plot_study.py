@@ -11,6 +11,7 @@ import csv
 import json
 import math
 import os
+import sys
 
 import matplotlib
 
@@ -25,12 +26,12 @@ def number(text):
     return float(text) if text not in ("", "null", "nan") else math.nan
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("csv")
     ap.add_argument("--summary")
     ap.add_argument("-o", "--output", help="folder for the PNGs (default: the CSV's)")
-    args = ap.parse_args()
+    args = ap.parse_args(argv)
     out = args.output or os.path.dirname(args.csv) or "."
     summary = {}
     if args.summary and os.path.exists(args.summary):
@@ -88,4 +89,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

@@ -23,11 +23,18 @@ struct CaseMeshes {
 };
 
 /// Meshes (`.geo`) or reads (`.msh`) every mesh of the case. When `msh_dir` is set, each
-/// mesh is also saved there as `<key>.msh` (format 4.1). Checks that every physical group
+/// mesh is also saved there as `<key>.msh` (format 4.1), and a mesh of a `.geo` with its
+/// cache `<key>.msh.cache`: a later call with the same `msh_dir` reads the mesh from that
+/// cache, without Gmsh, when the `.geo` (and every file it includes or merges), the meshing
+/// options, the Gmsh version and shellflow's version are unchanged (docs/output.md). A cache
+/// that does not match, is damaged or unreadable is ignored and the mesh generated again.
+/// `cache_dir` (used only when `msh_dir` is not set, e.g. by a restart, which saves no
+/// meshes): a folder whose caches are read but not written. Checks that every physical group
 /// the case names exists, that each mesh has the expected dimension (fluid and space:
 /// tetrahedra, shell: triangles; space mesh of order 3) and that no tetrahedron is
 /// inverted. Throws InputError naming the case file's line and the fix.
-CaseMeshes load_case_meshes(const Case& c, const std::optional<std::filesystem::path>& msh_dir);
+CaseMeshes load_case_meshes(const Case& c, const std::optional<std::filesystem::path>& msh_dir,
+                            const std::optional<std::filesystem::path>& cache_dir = std::nullopt);
 
 /// Checks the case's physical-group references against its mesh files without meshing
 /// them (Gmsh reads the groups from the `.geo` or `.msh`).

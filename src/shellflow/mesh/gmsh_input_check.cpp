@@ -111,6 +111,7 @@ constexpr std::string_view kGeoFix =
 struct GeoScanner {
   fs::path root;  ///< folder of the top-level file: included/merged files must stay inside
   std::vector<fs::path> stack;  ///< files being scanned (include cycles)
+  std::vector<fs::path>* read = nullptr;  ///< when set, receives every file Gmsh would read
 
   [[noreturn]] static void fail(const fs::path& file, int line, std::string_view what) {
     throw InputError(fmt::format("{}:{}: {}", file.string(), line, what));
@@ -159,6 +160,7 @@ struct GeoScanner {
                         file.string());
     }
     stack.push_back(real);
+    if (read) read->push_back(file);
     const std::string text = read_text(file);
     if (!text.empty() && text.front() == '$') {
       throw_input_error("{}:1: looks like a Gmsh mesh or data file, not a .geo script (Gmsh would "
@@ -232,6 +234,7 @@ struct GeoScanner {
       }
       const fs::path target = referenced_file(file, t, tokens[j]);
       const std::string ext = extension_of(target);
+      if (read && ext != ".geo" && !include) read->push_back(target);  // scan() adds scripts
       if (include) {
         scan(target);  // Gmsh parses an included file as a script whatever its name
       } else if (shape) {
@@ -274,28 +277,45 @@ struct GeoScanner {
 }  // namespace
 
 void check_geo_script(const fs::path& file) {
-  GeoScanner scanner{folder_of(file), {}};
+  GeoScanner scanner{folder_of(file), {}, nullptr};
   scanner.scan(file);
 }
 
 void check_msh_file(const fs::path& file) { check_msh_text(read_text(file), file); }
 
-void check_gmsh_input(const fs::path& file) {
+namespace {
+
+void check_input(const fs::path& file, std::vector<fs::path>* read) {
   const std::string ext = extension_of(file);
+  GeoScanner scanner{folder_of(file), {}, read};
   if (ext == ".msh") {
     check_msh_file(file);
+    if (read) read->push_back(file);
   } else if (ext == ".geo") {
-    check_geo_script(file);
-  } else if (!is_cad_extension(ext)) {
+    scanner.scan(file);
+  } else if (is_cad_extension(ext)) {
+    if (read) read->push_back(file);
+  } else {
     throw_input_error("{}: Gmsh would read a '{}' file as a script or in an unchecked format; "
                       "give a .geo script, a .msh mesh (format 4.1) or a STEP/IGES/BREP file",
                       file.string(), ext.empty() ? std::string("(no extension)") : ext);
   }
-  check_gmsh_option_files(file);
+  scanner.stack.clear();
+  scanner.scan_option_files(file);
+}
+
+}  // namespace
+
+void check_gmsh_input(const fs::path& file) { check_input(file, nullptr); }
+
+std::vector<fs::path> gmsh_input_files(const fs::path& file) {
+  std::vector<fs::path> read;
+  check_input(file, &read);
+  return read;
 }
 
 void check_gmsh_option_files(const fs::path& file) {
-  GeoScanner scanner{folder_of(file), {}};
+  GeoScanner scanner{folder_of(file), {}, nullptr};
   scanner.scan_option_files(file);
 }
 

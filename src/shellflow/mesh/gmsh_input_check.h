@@ -16,12 +16,18 @@
 // Every problem is one InputError line naming the file, the line and the fix.
 #include <filesystem>
 #include <string_view>
+#include <vector>
 
 namespace shellflow::mesh {
 
 /// Checks any file before gmsh::open: a `.msh` as a mesh, a `.geo` as a script, STEP/IGES/
 /// BREP files pass; anything else is refused. Also checks `FILE.opt` when it exists.
 void check_gmsh_input(const std::filesystem::path& file);
+
+/// Checks `file` as check_gmsh_input does and returns every file Gmsh reads when it opens it:
+/// the file, the scripts, meshes and CAD files it includes or merges (recursively, in the
+/// order met) and the option files (`FILE.opt`). The mesh cache digests their bytes.
+std::vector<std::filesystem::path> gmsh_input_files(const std::filesystem::path& file);
 
 /// Scans a Gmsh script (a `.geo`, or an option file) and what it includes or merges.
 void check_geo_script(const std::filesystem::path& file);
