@@ -49,7 +49,7 @@ struct CoupledOutputs {
       run.recorder.add(fluid.emplace<FluidOutput>(*run.meshes.fluid, s.new_index, *flow.flow(), run.outdir, mode));
     else
       run.recorder.add(fluid.emplace<FluidMeshOutput>(
-          *run.meshes.fluid, s.new_index, [&flow] { return flow.positions(); },
+          *run.meshes.fluid, s.new_index, s.fluid_mesh->nodes, [&flow] { return flow.positions(); },
           [&flow] { return flow.mesh_velocity(); }, run.outdir, mode));
     run.recorder.add(space.emplace(*run.meshes.space, space_mesh_of(flow), run.outdir, mode));
     quality.emplace(run.outdir / "mesh_quality.csv", std::vector<std::string>{}, *s.fluid_mesh, &space_mesh_of(flow),

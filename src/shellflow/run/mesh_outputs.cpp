@@ -246,10 +246,12 @@ void FluidOutput::write(long step, double) {
 
 // ---------------------------------------------------------------------------------------------
 
-FluidMeshOutput::FluidMeshOutput(const mesh::Mesh& case_mesh, std::span<const Index> new_index, Nodal positions,
-                                 Nodal velocity, const std::filesystem::path& outdir, io::OutputMode mode)
+FluidMeshOutput::FluidMeshOutput(const mesh::Mesh& case_mesh, std::span<const Index> new_index,
+                                 std::span<const Vec3> reference, Nodal positions, Nodal velocity,
+                                 const std::filesystem::path& outdir, io::OutputMode mode)
     : MeshOutput(case_mesh, outdir, mode),
       new_index_(new_index),
+      reference_(reference),
       positions_(std::move(positions)),
       velocity_(std::move(velocity)) {}
 
@@ -270,7 +272,7 @@ void FluidMeshOutput::write(long step, double t) {
     const std::size_t k = node(Index(i));
     positions[i] = x[k];
     for (Eigen::Index d = 0; d < 3; ++d) {
-      displacement[3 * i + std::size_t(d)] = x[k][d] - mesh_.nodes[i][d];
+      displacement[3 * i + std::size_t(d)] = x[k][d] - reference_[k][d];
       velocity[3 * i + std::size_t(d)] = w[k][d];
     }
   }

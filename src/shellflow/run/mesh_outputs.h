@@ -99,19 +99,21 @@ class FluidOutput final : public MeshOutput {
 };
 
 /// A fluid mesh moved without a flow (mesh-motion runs, coupled runs without loads):
-/// displacement and mesh velocity from the mover's positions and velocities, in the solver's
-/// node order `new_index` maps (empty: the case's).
+/// displacement (from the mover's reference positions, e.g. with the wall nodes snapped onto
+/// the shell) and mesh velocity from the mover's positions and velocities, all in the
+/// solver's node order `new_index` maps (empty: the case's).
 class FluidMeshOutput final : public MeshOutput {
  public:
   using Nodal = std::function<std::span<const Vec3>()>;
-  FluidMeshOutput(const mesh::Mesh& case_mesh, std::span<const Index> new_index, Nodal positions, Nodal velocity,
-                  const std::filesystem::path& outdir, io::OutputMode mode);
+  FluidMeshOutput(const mesh::Mesh& case_mesh, std::span<const Index> new_index, std::span<const Vec3> reference,
+                  Nodal positions, Nodal velocity, const std::filesystem::path& outdir, io::OutputMode mode);
   std::vector<io::FieldView> views() const override;
   void write(long step, double t) override;
 
  private:
   std::size_t node(Index i) const { return new_index_.empty() ? std::size_t(i) : std::size_t(new_index_[std::size_t(i)]); }
   std::span<const Index> new_index_;
+  std::span<const Vec3> reference_;
   Nodal positions_, velocity_;
 };
 

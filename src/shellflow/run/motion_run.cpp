@@ -26,8 +26,8 @@ void run_mesh_motion(const RunContext& run) {
   // amplitudes in front.
   const io::OutputMode mode = run.control.output_mode();
   FluidMeshOutput fluid_output(
-      fluid, {}, [&] { return std::span<const Vec3>(x); }, [&] { return std::span<const Vec3>(w); }, run.outdir,
-      mode);
+      fluid, {}, fluid.nodes, [&] { return std::span<const Vec3>(x); }, [&] { return std::span<const Vec3>(w); },
+      run.outdir, mode);
   run.recorder.add(fluid_output);
   std::optional<SpaceMeshOutput> space_output;
   if (space) run.recorder.add(space_output.emplace(*run.meshes.space, *space, run.outdir, mode));
