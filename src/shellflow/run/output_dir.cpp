@@ -1,11 +1,7 @@
 #include "shellflow/run/output_dir.h"
 
-#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -18,6 +14,7 @@
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
 #include "shellflow/io/checkpoint.h"
+#include "shellflow/io/plot_runner.h"
 
 namespace shellflow::run {
 
@@ -106,42 +103,16 @@ std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::file
   return args;
 }
 
-extern "C" char** environ;
-
 void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr) {
-  const auto path = std::filesystem::path(shellflow::source_dir) / "tools" / script;
-  if (!std::filesystem::exists(path)) {
-    spdlog::warn("plot skipped: {} not found", path.string());
-    return;
-  }
-  // An argument vector, no shell: output directories may hold any character.
-  std::vector<std::string> words{SHELLFLOW_PYTHON, path.string()};
-  words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (auto& w : words) argv.push_back(w.data());
-  argv.push_back(nullptr);
-  spdlog::debug("plot: {} {}", SHELLFLOW_PYTHON, fmt::join(std::vector<std::string>(words.begin() + 1, words.end()), " "));
-  pid_t pid = 0;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  if (output_to_stderr) posix_spawn_file_actions_adddup2(&actions, STDERR_FILENO, STDOUT_FILENO);
-  const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) {
-    spdlog::warn("plot failed: cannot start {} ({}); the numerical output is complete", SHELLFLOW_PYTHON,
-                 std::strerror(rc));
-    return;
-  }
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
-    spdlog::warn("plot failed ({} exited with status {}); the numerical output is complete", script,
-                 WIFEXITED(status) ? WEXITSTATUS(status) : -1);
+  io::PlotRunner runner(SHELLFLOW_PYTHON, output_to_stderr);
+  runner.add(script, args);
+  runner.run();
 }
 
 void make_plots(const PlotJobs& jobs) {
-  for (const PlotJob& job : jobs) make_plot(job.script, job.args);
+  io::PlotRunner runner(SHELLFLOW_PYTHON);
+  for (const PlotJob& job : jobs) runner.add(job.script, job.args);
+  runner.run();
 }
 
 }  // namespace shellflow::run

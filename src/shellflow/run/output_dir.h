@@ -30,11 +30,11 @@ struct PlotJob {
 };
 using PlotJobs = std::vector<PlotJob>;
 
-/// Runs tools/<script> with Debian's Python on the argument vector `args` (no shell is
-/// involved); logs a warning (not an error) if the plot cannot be made, since the numerical
+/// Runs tools/<script> with Debian's Python on the argument vector `args` (io::PlotRunner: no
+/// shell); logs a warning (not an error) if the plot cannot be made, since the numerical
 /// output is already written. `output_to_stderr`: the script's stdout goes to our stderr
 /// (when stdout carries machine-readable output, e.g. `mesh --json`).
 void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr = false);
-/// Draws every plot of `jobs`.
+/// Draws every plot of `jobs` in one Python process (tools/plot_run.py).
 void make_plots(const PlotJobs& jobs);
 }  // namespace shellflow::run

@@ -48,13 +48,13 @@ void run_kind(const RunContext& run) {
 }  // namespace
 
 int run_case(const io::Case& c, const RunOptions& options) {
-  // 1. The output folder and the meshes (a restart does not save them again: the folder
-  // keeps the run's own).
+  // 1. The output folder and the meshes, from the folder's mesh cache while their inputs are
+  // unchanged (a restart reads the cache but saves nothing: the folder keeps the run's own).
   std::optional<io::Checkpoint> checkpoint;
   const std::filesystem::path outdir = output_folder(c, options, checkpoint);
   spdlog::info("case '{}' -> {}", c.name, outdir.string());
-  const io::CaseMeshes meshes =
-      io::load_case_meshes(c, checkpoint ? std::nullopt : std::optional<std::filesystem::path>(outdir));
+  const io::CaseMeshes meshes = checkpoint ? io::load_case_meshes(c, std::nullopt, outdir)  // reads the cache
+                                           : io::load_case_meshes(c, outdir);
   // 2. The checkpoint control; only now, with the case read and meshed, the earlier run's
   // output goes (a case with an error keeps the old results; not for `study`, whose folder
   // holds the points of a study to resume).
