@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
+#include <complex>
 #include <cstdio>
 #include <fstream>
 #include <numbers>
@@ -20,6 +21,8 @@
 namespace shellflow::app {
 namespace {
 
+namespace fs = std::filesystem;
+
 /// The case reduced to what the analysis reads: the shell mesh (a coupled case's fluid and
 /// space meshes are not generated).
 io::Case shell_only(io::Case c) {
@@ -33,54 +36,25 @@ struct Result {
   coupling::FlutterSweep sweep;
   double lo = 0.0, hi = 0.0;
   std::optional<double> half_modes_critical;  ///< lambda_cr (or M_cr) on the first half of the modes
+  std::complex<double> least_stable;          ///< the least stable root at the case's flow
 };
 
-}  // namespace
+/// Piston theory on the case's stream; the wetted face does not enter the linear matrices
+/// (sign^2 = 1). Piston theory checks its stream (supersonic, positive density and speed).
+coupling::PistonTheory piston_theory(const io::Case& c, const shell::ShellModel& model, const std::string& where) {
+  try {
+    return coupling::PistonTheory(
+        model, setup::piston_flow(c, c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal
+                                                                                     : model.directors()[0]));
+  } catch (const InputError& e) {
+    throw InputError(fmt::format("{}: {}", where, e.what()));
+  }
+}
 
-int flutter_command(const CommonOptions& common, const FlutterOptions& options) {
-  const io::Case full = read_case(common);
-  const auto where = common.case_file.string();
-  if (!full.shell)
-    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'shell' section (the panel)", where));
-  if (!full.fluid)
-    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
-                                 "(density, pressure, mach, direction) for piston theory", where));
-  const io::Case c = shell_only(full);
-  const auto outdir = prepare_output_dir(c, common);
-  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
-  const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
-
-  // The wetted face does not enter the linear matrices (sign^2 = 1). Piston theory checks its
-  // stream (supersonic, positive density and speed).
-  const coupling::PistonTheory theory = [&] {
-    try {
-      return coupling::PistonTheory(
-          model, setup::piston_flow(c, c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal
-                                                                                       : model.directors()[0]));
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("{}: {}", where, e.what()));
-    }
-  }();
-  coupling::FlutterSetting setting = setup::flutter_setting(c, model);
-  setting.aerodynamic_damping = !options.no_aerodynamic_damping;
-  const auto& mat = c.shell->material;
-  if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
-    throw Error("--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
-                "pressure has the damping of its speed)");
-
-  const int modes = options.direct ? 0 : options.modes;
-  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({})",
-               c.name, setting.length, setting.bending_stiffness,
-               setting.mass_ratio_over_mach(mat.density, c.shell->thickness),
-               modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
-               options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
-  const coupling::LinearFlutterSystem linear(model, theory, modes);
-  if (!options.direct)
-    spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", linear.in_vacuo_frequencies().front(),
-                 linear.in_vacuo_frequencies().back());
-  else
-    spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", linear.size());
-
+/// The sweep over the parameter's range (widened up to three times when no boundary shows and
+/// no --range was given), the truncation check on half the modes, the case's least stable root.
+Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::PistonTheory& theory,
+             const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes) {
   Result r;
   // The full system's highest roots are the mesh's thickness-stretch modes (MHz), which piston
   // theory destabilises: with --direct only the --modes roots of lowest frequency count.
@@ -108,23 +82,31 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   }
   auto case_roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
   if (tracked > 0 && case_roots.size() > std::size_t(tracked)) case_roots.resize(std::size_t(tracked));
-  const auto least_stable = *std::max_element(case_roots.begin(), case_roots.end(),
-                                              [](const auto& a, const auto& b) { return a.real() < b.real(); });
+  r.least_stable = *std::max_element(case_roots.begin(), case_roots.end(),
+                                     [](const auto& a, const auto& b) { return a.real() < b.real(); });
+  return r;
+}
 
-  // flutter_locus.csv: one row per root and parameter value.
-  {
-    std::ofstream csv(outdir / "flutter_locus.csv");
-    csv << "value,lambda,mach,root,growth_rate,frequency_hz,damping_g\n";
-    for (const auto& p : r.sweep.points)
-      for (std::size_t k = 0; k < p.eigenvalues.size(); ++k) {
-        const auto s = p.eigenvalues[k];
-        const double g = s.imag() != 0.0 ? 2.0 * s.real() / s.imag() : std::nan("");
-        csv << fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, json_number(p.mach), k + 1,
-                           s.real(), s.imag() / (2.0 * std::numbers::pi), json_number(g));
-      }
-    if (!csv) throw Error(fmt::format("{}: cannot write flutter_locus.csv", outdir.string()));
-  }
+/// flutter_locus.csv: one row per root and parameter value.
+void write_locus(const Result& r, const fs::path& outdir) {
+  std::ofstream csv(outdir / "flutter_locus.csv");
+  csv << "value,lambda,mach,root,growth_rate,frequency_hz,damping_g\n";
+  for (const auto& p : r.sweep.points)
+    for (std::size_t k = 0; k < p.eigenvalues.size(); ++k) {
+      const auto s = p.eigenvalues[k];
+      const double g = s.imag() != 0.0 ? 2.0 * s.real() / s.imag() : std::nan("");
+      csv << fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, json_number(p.mach), k + 1,
+                         s.real(), s.imag() / (2.0 * std::numbers::pi), json_number(g));
+    }
+  if (!csv) throw Error(fmt::format("{}: cannot write flutter_locus.csv", outdir.string()));
+}
+
+/// flutter.json (returned, for --json).
+std::string write_summary(const io::Case& c, const Result& r, const coupling::LinearFlutterSystem& linear,
+                          const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes,
+                          const fs::path& outdir) {
   const auto& cr = r.sweep.critical;
+  const auto& mat = c.shell->material;
   std::string freqs;
   for (const double f : linear.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + json_number(f);
   const std::string json = fmt::format(
@@ -133,18 +115,23 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
       "\"lambda_case\": {}, \"mach_case\": {}, \"case_growth_rate\": {}, \"case_frequency_hz\": {}, "
       "\"lambda_cr\": {}, \"mach_cr\": {}, \"frequency_hz\": {}, \"critical_value\": {}, "
       "\"critical_value_half_modes\": {}, \"in_vacuo_frequencies_hz\": [{}]}}",
-      json_string(c.name), coupling::to_string(options.parameter), json_number(r.lo), json_number(r.hi), options.points, modes,
-      setting.aerodynamic_damping ? "true" : "false", json_number(setting.length), json_number(setting.bending_stiffness),
-      json_number(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)), json_number(lambda_case), json_number(setting.mach),
-      json_number(least_stable.real()), json_number(std::abs(least_stable.imag()) / (2.0 * std::numbers::pi)),
-      cr ? json_number(cr->lambda) : "null", cr ? json_number(cr->mach) : "null", cr ? json_number(cr->frequency_hz) : "null",
+      json_string(c.name), coupling::to_string(options.parameter), json_number(r.lo), json_number(r.hi),
+      options.points, modes, setting.aerodynamic_damping ? "true" : "false", json_number(setting.length),
+      json_number(setting.bending_stiffness), json_number(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)),
+      json_number(setting.lambda_of_mach(setting.mach)), json_number(setting.mach), json_number(r.least_stable.real()),
+      json_number(std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi)), cr ? json_number(cr->lambda) : "null",
+      cr ? json_number(cr->mach) : "null", cr ? json_number(cr->frequency_hz) : "null",
       cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null", freqs);
-  {
-    std::ofstream out(outdir / "flutter.json");
-    out << json << '\n';
-    if (!out) throw Error(fmt::format("{}: cannot write flutter.json", outdir.string()));
-  }
-  if (cr) {
+  std::ofstream out(outdir / "flutter.json");
+  out << json << '\n';
+  if (!out) throw Error(fmt::format("{}: cannot write flutter.json", outdir.string()));
+  return json;
+}
+
+/// The boundary found (or the advice to widen the range) and the case's least stable root.
+void log_outcome(const Result& r, const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes,
+                 const fs::path& outdir) {
+  if (const auto& cr = r.sweep.critical) {
     spdlog::info("flutter boundary: lambda_cr = {:.6g}, Mach_cr = {:.6g} (at rho = {:.6g} kg/m^3, p = {:.6g} Pa), "
                  "{:.6g} Hz{}",
                  cr->lambda, cr->mach, setting.density, setting.pressure, cr->frequency_hz,
@@ -157,8 +144,49 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   }
   spdlog::info("the case's flow (lambda = {:.6g}, Mach {:.4g}): least stable root {:.6g} 1/s at {:.6g} Hz; wrote "
                "{}: flutter_locus.csv, flutter.json",
-               lambda_case, setting.mach, least_stable.real(), std::abs(least_stable.imag()) / (2.0 * std::numbers::pi),
-               outdir.string());
+               setting.lambda_of_mach(setting.mach), setting.mach, r.least_stable.real(),
+               std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi), outdir.string());
+}
+
+}  // namespace
+
+int flutter_command(const CommonOptions& common, const FlutterOptions& options) {
+  // 1. The case reduced to its shell, the shell model, piston theory and the setting.
+  const io::Case full = read_case(common);
+  const auto where = common.case_file.string();
+  if (!full.shell)
+    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'shell' section (the panel)", where));
+  if (!full.fluid)
+    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
+                                 "(density, pressure, mach, direction) for piston theory", where));
+  const io::Case c = shell_only(full);
+  const auto outdir = prepare_output_dir(c, common);
+  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
+  const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
+  const coupling::PistonTheory theory = piston_theory(c, model, where);
+  coupling::FlutterSetting setting = setup::flutter_setting(c, model);
+  setting.aerodynamic_damping = !options.no_aerodynamic_damping;
+  if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
+    throw Error("--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
+                "pressure has the damping of its speed)");
+  // 2. The linear system (in-vacuo modes or the full system) and the sweep.
+  const int modes = options.direct ? 0 : options.modes;
+  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({})",
+               c.name, setting.length, setting.bending_stiffness,
+               setting.mass_ratio_over_mach(c.shell->material.density, c.shell->thickness),
+               modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
+               options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
+  const coupling::LinearFlutterSystem linear(model, theory, modes);
+  if (!options.direct)
+    spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", linear.in_vacuo_frequencies().front(),
+                 linear.in_vacuo_frequencies().back());
+  else
+    spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", linear.size());
+  const Result r = sweep(linear, theory, setting, options, modes);
+  // 3. The outputs and the plot.
+  write_locus(r, outdir);
+  const std::string json = write_summary(c, r, linear, setting, options, modes, outdir);
+  log_outcome(r, setting, options, modes, outdir);
   if (options.json) std::printf("%s\n", json.c_str());
   if (common.plot)
     make_plot("plot_flutter_locus.py", {(outdir / "flutter_locus.csv").string(), "--summary",

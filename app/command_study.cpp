@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <sstream>
@@ -323,10 +324,9 @@ double zero_of(const Point& a, const Point& b) {
   return a.value - a.growth_rate * (b.value - a.value) / (b.growth_rate - a.growth_rate);
 }
 
-}  // namespace
-
-int study_command(const CommonOptions& common, const StudyOptions& options) {
-  const io::Case c = read_case(common);
+/// The study section and the case as the runs will read it at both ends of the range:
+/// refused here, not per run.
+void check_study_case(const io::Case& c, const CommonOptions& common) {
   if (!c.study)
     throw InputError(fmt::format("{}: the case has no 'study' section (parameter, range, points, tolerance; "
                                  "docs/case-format.md)", common.case_file.string()));
@@ -334,37 +334,152 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
   if (!io::response_probe(c))
     throw InputError(fmt::format("{}: a study reads the growth rate of a shell.displacement probe; add one to "
                                  "'probes' (or name it in coupling.response.probe)", common.case_file.string()));
-  {
-    // The case as the runs will read it, at both ends of the range: refused here, not per run.
-    for (const double v : {s.lo, s.hi}) {
-      CommonOptions point = common;
-      point.overrides = run_overrides(c, common, v);
-      try {
-        (void)read_case(point);
-      } catch (const InputError& e) {
-        throw InputError(fmt::format("study at {} = {:.8g} (study.set and the parameter applied): {}",
-                                     io::to_string(s.parameter), v, e.what()));
-      }
+  for (const double v : {s.lo, s.hi}) {
+    CommonOptions point = common;
+    point.overrides = run_overrides(c, common, v);
+    try {
+      (void)read_case(point);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("study at {} = {:.8g} (study.set and the parameter applied): {}",
+                                   io::to_string(s.parameter), v, e.what()));
     }
   }
-  const auto outdir = prepare_output_dir(c, common);
-  const std::string name(io::to_string(s.parameter));
-  spdlog::info("study of '{}': {} in [{:.6g}, {:.6g}], {} points, boundary to {:.3g}, {} job(s) -> {}", c.name, name,
-               s.lo, s.hi, s.points, s.tolerance, options.jobs, outdir.string());
-  PointRunner runner(c, common, outdir, options.jobs);
-  g_study_signal = 0;
-  struct sigaction action {}, old_int {}, old_term {};
-  action.sa_handler = on_study_signal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, &old_int);
-  sigaction(SIGTERM, &action, &old_term);
-  struct Restore {
-    struct sigaction &a, &b;
-    ~Restore() {
-      sigaction(SIGINT, &a, nullptr);
-      sigaction(SIGTERM, &b, nullptr);
+}
+
+/// SIGINT/SIGTERM stop a study (its runs get the signal too and stop with checkpoints) while
+/// an object of this type lives; the previous handlers come back with its end.
+class StudySignals {
+ public:
+  StudySignals() {
+    g_study_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = on_study_signal;
+    sigemptyset(&action.sa_mask);
+    sigaction(SIGINT, &action, &old_int_);
+    sigaction(SIGTERM, &action, &old_term_);
+  }
+  ~StudySignals() {
+    sigaction(SIGINT, &old_int_, nullptr);
+    sigaction(SIGTERM, &old_term_, nullptr);
+  }
+  StudySignals(const StudySignals&) = delete;
+  StudySignals& operator=(const StudySignals&) = delete;
+
+ private:
+  struct sigaction old_int_ {}, old_term_ {};
+};
+
+/// Where the study stands after its runs: every point, the bracket of the sign change, the
+/// refinement rounds made.
+struct StudyResult {
+  std::vector<Point> points;
+  std::optional<std::pair<Point, Point>> bracket;
+  int rounds = 0;
+  bool stopped = false;
+};
+
+/// Refinement: regula falsi (Illinois) on the bracket, with `jobs` points per round (the
+/// secant estimate first, the others splitting the bracket evenly).
+void refine(const io::StudySection& s, int jobs, PointRunner& runner, const std::function<bool()>& stopped,
+            StudyResult& r) {
+  double weight_a = 1.0, weight_b = 1.0;  // Illinois: an end kept twice in a row counts half
+  int last_kept = -1;                      // 0: a, 1: b
+  while (r.bracket && r.bracket->second.value - r.bracket->first.value > s.tolerance &&
+         r.rounds < s.max_refinements) {
+    const Point a = r.bracket->first, b = r.bracket->second;
+    const double w = b.value - a.value;
+    const double ga = a.growth_rate * weight_a, gb = b.growth_rate * weight_b;
+    double x = a.value - ga * w / (gb - ga);
+    x = std::clamp(x, a.value + 0.05 * w, b.value - 0.05 * w);
+    std::vector<double> next{x};
+    for (int k = 1; k < jobs; ++k) next.push_back(a.value + w * k / jobs);
+    std::sort(next.begin(), next.end());
+    next.erase(std::unique(next.begin(), next.end(), [&](double p, double q) { return std::abs(p - q) < 1e-3 * w; }),
+               next.end());
+    const auto fresh = runner.run(next);
+    if ((r.stopped = stopped())) return;
+    r.points.insert(r.points.end(), fresh.begin(), fresh.end());
+    ++r.rounds;
+    const auto nb = bracket(r.points);
+    if (!nb) return;
+    const bool a_kept = nb->first.value == a.value, b_kept = nb->second.value == b.value;
+    const int kept = a_kept && !b_kept ? 0 : b_kept && !a_kept ? 1 : -1;
+    weight_a = kept == 0 ? (last_kept == 0 ? 0.5 * weight_a : weight_a) : 1.0;
+    weight_b = kept == 1 ? (last_kept == 1 ? 0.5 * weight_b : weight_b) : 1.0;
+    last_kept = kept;
+    if (a_kept && b_kept) {
+      spdlog::warn("study: the runs inside [{:.8g}, {:.8g}] failed; the bracket stays", a.value, b.value);
+      return;
     }
-  } restore_signals{old_int, old_term};
+    r.bracket = nb;
+  }
+}
+
+/// study.csv and study.json (returned, for --json).
+std::string write_results(const io::Case& c, const StudyResult& r, const std::optional<double>& boundary,
+                          const fs::path& outdir) {
+  const io::StudySection& s = *c.study;
+  const std::string name(io::to_string(s.parameter));
+  {
+    std::ofstream csv(outdir / "study.csv");
+    csv << name << ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
+                   "folder,message\n";
+    for (const auto& p : r.points)
+      csv << fmt::format("{:.10g},{},{},{},{},{},{},{},{},{}\n", p.value, p.ok ? "ok" : "failed",
+                         json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz),
+                         p.saturated ? 1 : 0, json_number(p.lco_amplitude), json_number(p.lco_frequency_hz),
+                         fs::relative(p.dir, outdir).string(), csv_quoted(p.message));
+  }
+  std::string rows;
+  for (const auto& p : r.points)
+    rows += fmt::format("{}{{\"value\": {}, \"ok\": {}, \"growth_rate\": {}, \"growth_rate_error\": {}, "
+                        "\"frequency_hz\": {}, \"saturated\": {}, \"lco_amplitude\": {}, \"lco_frequency_hz\": {}, "
+                        "\"message\": {}}}",
+                        rows.empty() ? "" : ", ", json_number(p.value), p.ok ? "true" : "false",
+                        json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz),
+                        p.saturated ? "true" : "false", json_number(p.lco_amplitude),
+                        json_number(p.lco_frequency_hz), json_string(p.message));
+  const auto& br = r.bracket;
+  const std::string json = fmt::format(
+      "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"tolerance\": {}, \"boundary\": {}, "
+      "\"bracket\": {}, \"refinements\": {}, \"points\": [{}]}}",
+      json_string(c.name), name, json_number(s.lo), json_number(s.hi), json_number(s.tolerance),
+      boundary ? json_number(*boundary) : "null",
+      br ? fmt::format("[{}, {}]", json_number(br->first.value), json_number(br->second.value)) : "null", r.rounds,
+      rows);
+  std::ofstream(outdir / "study.json") << json << '\n';
+  return json;
+}
+
+/// The boundary found, or why there is none.
+void log_outcome(const io::StudySection& s, const StudyResult& r, const std::optional<double>& boundary) {
+  const std::string name(io::to_string(s.parameter));
+  if (boundary) {
+    spdlog::info("study: flutter boundary at {} = {:.6g} (bracket [{:.6g}, {:.6g}], {} refinement round(s))", name,
+                 *boundary, r.bracket->first.value, r.bracket->second.value, r.rounds);
+    return;
+  }
+  std::string found;
+  for (const auto& p : r.points)
+    found += fmt::format("{}{:.6g}: {}", found.empty() ? "" : ", ", p.value,
+                         p.ok ? fmt::format("{:.4g} 1/s", p.growth_rate) : "failed");
+  spdlog::warn("study: the growth rate does not change sign in {} = [{:.6g}, {:.6g}] ({}); widen study.range", name,
+               s.lo, s.hi, found);
+}
+
+}  // namespace
+
+int study_command(const CommonOptions& common, const StudyOptions& options) {
+  // 1. The case and its study, checked at both ends of the range.
+  const io::Case c = read_case(common);
+  check_study_case(c, common);
+  const io::StudySection& s = *c.study;
+  const auto outdir = prepare_output_dir(c, common);
+  spdlog::info("study of '{}': {} in [{:.6g}, {:.6g}], {} points, boundary to {:.3g}, {} job(s) -> {}", c.name,
+               io::to_string(s.parameter), s.lo, s.hi, s.points, s.tolerance, options.jobs, outdir.string());
+  // 2. The runs: the points of the range, then the refinement of the sign change.
+  PointRunner runner(c, common, outdir, options.jobs);
+  const StudySignals signals;
   const auto stopped = [&] {
     if (!runner.interrupted() && g_study_signal == 0) return false;
     spdlog::warn("study interrupted: the finished points are kept and the stopped runs have checkpoints; run the "
@@ -373,84 +488,19 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
   };
   std::vector<double> values;
   for (int i = 0; i < s.points; ++i) values.push_back(s.lo + (s.hi - s.lo) * i / (s.points - 1));
-  std::vector<Point> points = runner.run(values);
+  StudyResult result;
+  result.points = runner.run(values);
   if (stopped()) return kStoppedExitCode;
-
-  // Refinement: regula falsi (Illinois) on the bracket, with `jobs` points per round (the
-  // secant estimate first, the others splitting the bracket evenly).
-  auto br = bracket(points);
-  int rounds = 0;
-  double weight_a = 1.0, weight_b = 1.0;  // Illinois: an end kept twice in a row counts half
-  int last_kept = -1;                      // 0: a, 1: b
-  while (br && br->second.value - br->first.value > s.tolerance && rounds < s.max_refinements) {
-    const Point& a = br->first;
-    const Point& b = br->second;
-    const double w = b.value - a.value;
-    const double ga = a.growth_rate * weight_a, gb = b.growth_rate * weight_b;
-    double x = a.value - ga * w / (gb - ga);
-    x = std::clamp(x, a.value + 0.05 * w, b.value - 0.05 * w);
-    std::vector<double> next{x};
-    for (int k = 1; k < options.jobs; ++k) next.push_back(a.value + w * k / options.jobs);
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end(), [&](double p, double q) { return std::abs(p - q) < 1e-3 * w; }),
-               next.end());
-    const auto fresh = runner.run(next);
-    if (stopped()) return kStoppedExitCode;
-    points.insert(points.end(), fresh.begin(), fresh.end());
-    ++rounds;
-    const auto nb = bracket(points);
-    if (!nb) break;
-    const bool a_kept = nb->first.value == a.value, b_kept = nb->second.value == b.value;
-    const int kept = a_kept && !b_kept ? 0 : b_kept && !a_kept ? 1 : -1;
-    weight_a = kept == 0 ? (last_kept == 0 ? 0.5 * weight_a : weight_a) : 1.0;
-    weight_b = kept == 1 ? (last_kept == 1 ? 0.5 * weight_b : weight_b) : 1.0;
-    last_kept = kept;
-    if (nb->first.value == a.value && nb->second.value == b.value) {
-      spdlog::warn("study: the runs inside [{:.8g}, {:.8g}] failed; the bracket stays", a.value, b.value);
-      break;
-    }
-    br = nb;
-  }
-
-  std::sort(points.begin(), points.end(), [](const Point& a, const Point& b) { return a.value < b.value; });
+  result.bracket = bracket(result.points);
+  refine(s, options.jobs, runner, stopped, result);
+  if (result.stopped) return kStoppedExitCode;
+  // 3. The results, the boundary and the plot.
+  std::sort(result.points.begin(), result.points.end(),
+            [](const Point& a, const Point& b) { return a.value < b.value; });
   std::optional<double> boundary;
-  if (br) boundary = zero_of(br->first, br->second);
-  {
-    std::ofstream csv(outdir / "study.csv");
-    csv << name << ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
-                   "folder,message\n";
-    for (const auto& p : points)
-      csv << fmt::format("{:.10g},{},{},{},{},{},{},{},{},{}\n", p.value, p.ok ? "ok" : "failed",
-                         json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz), p.saturated ? 1 : 0,
-                         json_number(p.lco_amplitude), json_number(p.lco_frequency_hz),
-                         fs::relative(p.dir, outdir).string(), csv_quoted(p.message));
-  }
-  std::string rows;
-  for (const auto& p : points)
-    rows += fmt::format("{}{{\"value\": {}, \"ok\": {}, \"growth_rate\": {}, \"growth_rate_error\": {}, "
-                        "\"frequency_hz\": {}, \"saturated\": {}, \"lco_amplitude\": {}, \"lco_frequency_hz\": {}, "
-                        "\"message\": {}}}",
-                        rows.empty() ? "" : ", ", json_number(p.value), p.ok ? "true" : "false", json_number(p.growth_rate),
-                        json_number(p.growth_rate_error), json_number(p.frequency_hz), p.saturated ? "true" : "false",
-                        json_number(p.lco_amplitude), json_number(p.lco_frequency_hz), json_string(p.message));
-  const std::string json = fmt::format(
-      "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"tolerance\": {}, \"boundary\": {}, "
-      "\"bracket\": {}, \"refinements\": {}, \"points\": [{}]}}",
-      json_string(c.name), name, json_number(s.lo), json_number(s.hi), json_number(s.tolerance), boundary ? json_number(*boundary) : "null",
-      br ? fmt::format("[{}, {}]", json_number(br->first.value), json_number(br->second.value)) : "null", rounds, rows);
-  std::ofstream(outdir / "study.json") << json << '\n';
-
-  if (boundary) {
-    spdlog::info("study: flutter boundary at {} = {:.6g} (bracket [{:.6g}, {:.6g}], {} refinement round(s))", name,
-                 *boundary, br->first.value, br->second.value, rounds);
-  } else {
-    std::string found;
-    for (const auto& p : points)
-      found += fmt::format("{}{:.6g}: {}", found.empty() ? "" : ", ", p.value,
-                           p.ok ? fmt::format("{:.4g} 1/s", p.growth_rate) : "failed");
-    spdlog::warn("study: the growth rate does not change sign in {} = [{:.6g}, {:.6g}] ({}); widen study.range",
-                 name, s.lo, s.hi, found);
-  }
+  if (result.bracket) boundary = zero_of(result.bracket->first, result.bracket->second);
+  const std::string json = write_results(c, result, boundary, outdir);
+  log_outcome(s, result, boundary);
   spdlog::info("wrote {}: study.csv, study.json, points/", outdir.string());
   if (options.json) std::printf("%s\n", json.c_str());
   if (common.plot)
