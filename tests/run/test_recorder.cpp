@@ -84,6 +84,26 @@ TEST(Recorder, FrameZeroOnceInitialOutputsOnlyForTheOtherMeshes) {
   EXPECT_NE(csv.find("0.5,7,0"), std::string::npos) << csv;
 }
 
+// A restarted run's recorder leaves the frames of the meshes it does not move as the first
+// invocation wrote them (their .pvd is not started again).
+TEST(Recorder, ARestartKeepsTheInitialFrames) {
+  TempDir dir;
+  io::CaseMeshes meshes;
+  meshes.fluid = cube_mesh("fluid");
+  meshes.space = cube_mesh("space");
+  const io::Case c;
+  {
+    Recorder first(c, meshes, dir.path(), io::OutputMode::create);
+    first.record(0, 0.0, Record::probes_and_fields);
+  }
+  const std::string before = read_file(dir.path() / "space.pvd");
+  ASSERT_EQ(count(before, "<DataSet"), 1u);
+  Recorder restarted(c, meshes, dir.path(), io::OutputMode::resume);
+  restarted.record(5, 1.0, Record::fields);  // probes.csv resumes only through RunControl::restore
+  EXPECT_EQ(read_file(dir.path() / "space.pvd"), before);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "space_000005.vtu"));
+}
+
 /// A smooth vector field on the cube.
 Vec3 field(const Vec3& x) { return {std::sin(x.x()) + x.y(), x.z() * x.z() - 0.3, x.x() * x.y() * x.z() + 1.0}; }
 

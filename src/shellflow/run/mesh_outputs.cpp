@@ -110,8 +110,10 @@ void MeshOutput::write_frame(long step, double t, std::vector<io::VtuField> fiel
 
 // ---------------------------------------------------------------------------------------------
 
+// OutputMode::resume: <mesh>.pvd is written when frame 0 is added, not before (a restarted run
+// keeps the one of its first invocation).
 InitialOutput::InitialOutput(const io::Case& c, const mesh::Mesh& mesh, const std::filesystem::path& outdir)
-    : MeshOutput(mesh, outdir, io::OutputMode::create) {
+    : MeshOutput(mesh, outdir, io::OutputMode::resume) {
   const std::size_t n = mesh.nodes.size();
   const auto constant = [&](std::string name, int components, double value) {
     names_.emplace_back(std::move(name), components);
