@@ -17,8 +17,7 @@ int check_command(const CommonOptions& options) {
   std::size_t meshes = 0;
   for (auto key : io::kMeshKeys) meshes += c.meshes.find(key) != nullptr;
   fmt::print("{}: OK (case '{}': {} mesh(es), {} physical-group reference(s), {} probe(s))\n",
-             options.case_file.string(), c.name, meshes, c.group_references.size(),
-             c.probes.size());
+             options.case_file.string(), c.name, meshes, c.group_references.size(), c.probes.size());
   return 0;
 }
 

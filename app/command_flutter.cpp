@@ -45,7 +45,7 @@ coupling::PistonTheory piston_theory(const io::Case& c, const shell::ShellModel&
   try {
     return coupling::PistonTheory(
         model, setup::piston_flow(c, c.coupling && c.coupling->wet_normal.norm() > 0.0 ? c.coupling->wet_normal
-                                                                                     : model.directors()[0]));
+                                                                                       : model.directors()[0]));
   } catch (const InputError& e) {
     throw InputError(fmt::format("{}: {}", where, e.what()));
   }
@@ -115,13 +115,15 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
       "\"lambda_case\": {}, \"mach_case\": {}, \"case_growth_rate\": {}, \"case_frequency_hz\": {}, "
       "\"lambda_cr\": {}, \"mach_cr\": {}, \"frequency_hz\": {}, \"critical_value\": {}, "
       "\"critical_value_half_modes\": {}, \"in_vacuo_frequencies_hz\": [{}]}}",
-      json_string(c.name), coupling::to_string(options.parameter), json_number(r.lo), json_number(r.hi),
-      options.points, modes, setting.aerodynamic_damping ? "true" : "false", json_number(setting.length),
-      json_number(setting.bending_stiffness), json_number(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)),
+      json_string(c.name), coupling::to_string(options.parameter), json_number(r.lo), json_number(r.hi), options.points,
+      modes, setting.aerodynamic_damping ? "true" : "false", json_number(setting.length),
+      json_number(setting.bending_stiffness),
+      json_number(setting.mass_ratio_over_mach(mat.density, c.shell->thickness)),
       json_number(setting.lambda_of_mach(setting.mach)), json_number(setting.mach), json_number(r.least_stable.real()),
       json_number(std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi)), cr ? json_number(cr->lambda) : "null",
       cr ? json_number(cr->mach) : "null", cr ? json_number(cr->frequency_hz) : "null",
-      cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null", freqs);
+      cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null",
+      freqs);
   std::ofstream out(outdir / "flutter.json");
   out << json << '\n';
   if (!out) throw Error(fmt::format("{}: cannot write flutter.json", outdir.string()));
@@ -132,20 +134,22 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
 void log_outcome(const Result& r, const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes,
                  const fs::path& outdir) {
   if (const auto& cr = r.sweep.critical) {
-    spdlog::info("flutter boundary: lambda_cr = {:.6g}, Mach_cr = {:.6g} (at rho = {:.6g} kg/m^3, p = {:.6g} Pa), "
-                 "{:.6g} Hz{}",
-                 cr->lambda, cr->mach, setting.density, setting.pressure, cr->frequency_hz,
-                 r.half_modes_critical ? fmt::format(" ({} modes: {} = {:.6g})", modes / 2,
-                                                     coupling::to_string(options.parameter), *r.half_modes_critical)
-                                       : "");
+    spdlog::info(
+        "flutter boundary: lambda_cr = {:.6g}, Mach_cr = {:.6g} (at rho = {:.6g} kg/m^3, p = {:.6g} Pa), "
+        "{:.6g} Hz{}",
+        cr->lambda, cr->mach, setting.density, setting.pressure, cr->frequency_hz,
+        r.half_modes_critical ? fmt::format(" ({} modes: {} = {:.6g})", modes / 2,
+                                            coupling::to_string(options.parameter), *r.half_modes_critical)
+                              : "");
   } else {
     spdlog::warn("no flutter boundary in {} = [{:.6g}, {:.6g}]; give a wider --range",
                  coupling::to_string(options.parameter), r.lo, r.hi);
   }
-  spdlog::info("the case's flow (lambda = {:.6g}, Mach {:.4g}): least stable root {:.6g} 1/s at {:.6g} Hz; wrote "
-               "{}: flutter_locus.csv, flutter.json",
-               setting.lambda_of_mach(setting.mach), setting.mach, r.least_stable.real(),
-               std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi), outdir.string());
+  spdlog::info(
+      "the case's flow (lambda = {:.6g}, Mach {:.4g}): least stable root {:.6g} 1/s at {:.6g} Hz; wrote "
+      "{}: flutter_locus.csv, flutter.json",
+      setting.lambda_of_mach(setting.mach), setting.mach, r.least_stable.real(),
+      std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi), outdir.string());
 }
 
 }  // namespace
@@ -157,8 +161,10 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   if (!full.shell)
     throw InputError(fmt::format("{}: the linear flutter analysis needs a 'shell' section (the panel)", where));
   if (!full.fluid)
-    throw InputError(fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
-                                 "(density, pressure, mach, direction) for piston theory", where));
+    throw InputError(
+        fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
+                    "(density, pressure, mach, direction) for piston theory",
+                    where));
   const io::Case c = shell_only(full);
   const auto outdir = prepare_output_dir(c, common);
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
@@ -167,12 +173,13 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   coupling::FlutterSetting setting = setup::flutter_setting(c, model);
   setting.aerodynamic_damping = !options.no_aerodynamic_damping;
   if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
-    throw Error("--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
-                "pressure has the damping of its speed)");
+    throw Error(
+        "--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
+        "pressure has the damping of its speed)");
   // 2. The linear system (in-vacuo modes or the full system) and the sweep.
   const int modes = options.direct ? 0 : options.modes;
-  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({})",
-               c.name, setting.length, setting.bending_stiffness,
+  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({})", c.name,
+               setting.length, setting.bending_stiffness,
                setting.mass_ratio_over_mach(c.shell->material.density, c.shell->thickness),
                modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
                options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
@@ -189,9 +196,9 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   log_outcome(r, setting, options, modes, outdir);
   if (options.json) std::printf("%s\n", json.c_str());
   if (common.plot)
-    make_plot("plot_flutter_locus.py", {(outdir / "flutter_locus.csv").string(), "--summary",
-                                        (outdir / "flutter.json").string(), "-o",
-                                        (outdir / "flutter_locus.png").string()},
+    make_plot("plot_flutter_locus.py",
+              {(outdir / "flutter_locus.csv").string(), "--summary", (outdir / "flutter.json").string(), "-o",
+               (outdir / "flutter_locus.png").string()},
               options.json);
   return 0;
 }

@@ -28,12 +28,11 @@ int mesh_command(const CommonOptions& options, bool json) {
   if (json) {
     fmt::print("{}\n", report_json);
   } else {
-    fmt::print("{:<6} {:>8} {:>9}  {:<6} {:>7} {:>7} {:>8}  {}\n", "mesh", "nodes", "elements",
-               "type", "min q", "mean q", "inverted", "source");
+    fmt::print("{:<6} {:>8} {:>9}  {:<6} {:>7} {:>7} {:>8}  {}\n", "mesh", "nodes", "elements", "type", "min q",
+               "mean q", "inverted", "source");
     for (const auto& r : reports) {
-      fmt::print("{:<6} {:>8} {:>9}  {:<6} {:>7.3f} {:>7.3f} {:>8}  {}\n", r.key, r.nodes,
-                 r.elements, r.element_type, r.quality.min, r.quality.mean, r.quality.inverted,
-                 r.source);
+      fmt::print("{:<6} {:>8} {:>9}  {:<6} {:>7.3f} {:>7.3f} {:>8}  {}\n", r.key, r.nodes, r.elements, r.element_type,
+                 r.quality.min, r.quality.mean, r.quality.inverted, r.source);
     }
   }
   std::fflush(stdout);

@@ -5,19 +5,18 @@
 // finished point.json is not rerun, so an interrupted study continues where it stopped; a
 // point whose run stopped with a checkpoint (Ctrl-C, SIGTERM) continues from it
 // (--restart, docs/restart.md).
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
-
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <spawn.h>
+#include <spdlog/spdlog.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
-#include <csignal>
 #include <charconv>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -26,10 +25,10 @@
 #include <sstream>
 
 #include "commands.h"
-#include "shellflow/run/run_control.h"
-#include "shellflow/io/checkpoint.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
+#include "shellflow/io/checkpoint.h"
+#include "shellflow/run/run_control.h"
 
 extern "C" char** environ;
 
@@ -128,8 +127,9 @@ std::optional<Point> read_point(const fs::path& dir, double value) {
   }
   if (!std::isfinite(p.growth_rate)) {
     p.ok = false;
-    p.message = "response.json has no growth rate (too few extrema in the fit window: run longer or widen "
-                "coupling.response.window)";
+    p.message =
+        "response.json has no growth rate (too few extrema in the fit window: run longer or widen "
+        "coupling.response.window)";
   }
   return p;
 }
@@ -137,9 +137,12 @@ std::optional<Point> read_point(const fs::path& dir, double value) {
 /// The case keys a parameter value sets.
 std::vector<std::string> overrides_of(const io::Case& c, double value) {
   switch (c.study->parameter) {
-    case io::StudySection::Parameter::mach: return {fmt::format("fluid.free_stream.mach={:.12g}", value)};
-    case io::StudySection::Parameter::density: return {fmt::format("fluid.free_stream.density={:.12g}", value)};
-    case io::StudySection::Parameter::thickness: return {fmt::format("shell.thickness={:.12g}", value)};
+    case io::StudySection::Parameter::mach:
+      return {fmt::format("fluid.free_stream.mach={:.12g}", value)};
+    case io::StudySection::Parameter::density:
+      return {fmt::format("fluid.free_stream.density={:.12g}", value)};
+    case io::StudySection::Parameter::thickness:
+      return {fmt::format("shell.thickness={:.12g}", value)};
     case io::StudySection::Parameter::dynamic_pressure: {
       // q = rho U^2 / 2 = gamma p M^2 / 2 at the case's p (and rho, so the cavity stays balanced).
       const double m = std::sqrt(2.0 * value / (c.fluid->gas.gamma * c.fluid->free_stream.pressure));
@@ -328,12 +331,16 @@ double zero_of(const Point& a, const Point& b) {
 /// refused here, not per run.
 void check_study_case(const io::Case& c, const CommonOptions& common) {
   if (!c.study)
-    throw InputError(fmt::format("{}: the case has no 'study' section (parameter, range, points, tolerance; "
-                                 "docs/case-format.md)", common.case_file.string()));
+    throw InputError(
+        fmt::format("{}: the case has no 'study' section (parameter, range, points, tolerance; "
+                    "docs/case-format.md)",
+                    common.case_file.string()));
   const io::StudySection& s = *c.study;
   if (!io::response_probe(c))
-    throw InputError(fmt::format("{}: a study reads the growth rate of a shell.displacement probe; add one to "
-                                 "'probes' (or name it in coupling.response.probe)", common.case_file.string()));
+    throw InputError(
+        fmt::format("{}: a study reads the growth rate of a shell.displacement probe; add one to "
+                    "'probes' (or name it in coupling.response.probe)",
+                    common.case_file.string()));
   for (const double v : {s.lo, s.hi}) {
     CommonOptions point = common;
     point.overrides = run_overrides(c, common, v);
@@ -366,7 +373,8 @@ class StudySignals {
   StudySignals& operator=(const StudySignals&) = delete;
 
  private:
-  struct sigaction old_int_ {}, old_term_ {};
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 /// Where the study stands after its runs: every point, the bracket of the sign change, the
@@ -383,9 +391,8 @@ struct StudyResult {
 void refine(const io::StudySection& s, int jobs, PointRunner& runner, const std::function<bool()>& stopped,
             StudyResult& r) {
   double weight_a = 1.0, weight_b = 1.0;  // Illinois: an end kept twice in a row counts half
-  int last_kept = -1;                      // 0: a, 1: b
-  while (r.bracket && r.bracket->second.value - r.bracket->first.value > s.tolerance &&
-         r.rounds < s.max_refinements) {
+  int last_kept = -1;                     // 0: a, 1: b
+  while (r.bracket && r.bracket->second.value - r.bracket->first.value > s.tolerance && r.rounds < s.max_refinements) {
     const Point a = r.bracket->first, b = r.bracket->second;
     const double w = b.value - a.value;
     const double ga = a.growth_rate * weight_a, gb = b.growth_rate * weight_b;
@@ -422,8 +429,9 @@ std::string write_results(const io::Case& c, const StudyResult& r, const std::op
   const std::string name(io::to_string(s.parameter));
   {
     std::ofstream csv(outdir / "study.csv");
-    csv << name << ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
-                   "folder,message\n";
+    csv << name
+        << ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
+           "folder,message\n";
     for (const auto& p : r.points)
       csv << fmt::format("{:.10g},{},{},{},{},{},{},{},{},{}\n", p.value, p.ok ? "ok" : "failed",
                          json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz),
@@ -432,13 +440,13 @@ std::string write_results(const io::Case& c, const StudyResult& r, const std::op
   }
   std::string rows;
   for (const auto& p : r.points)
-    rows += fmt::format("{}{{\"value\": {}, \"ok\": {}, \"growth_rate\": {}, \"growth_rate_error\": {}, "
-                        "\"frequency_hz\": {}, \"saturated\": {}, \"lco_amplitude\": {}, \"lco_frequency_hz\": {}, "
-                        "\"message\": {}}}",
-                        rows.empty() ? "" : ", ", json_number(p.value), p.ok ? "true" : "false",
-                        json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz),
-                        p.saturated ? "true" : "false", json_number(p.lco_amplitude),
-                        json_number(p.lco_frequency_hz), json_string(p.message));
+    rows += fmt::format(
+        "{}{{\"value\": {}, \"ok\": {}, \"growth_rate\": {}, \"growth_rate_error\": {}, "
+        "\"frequency_hz\": {}, \"saturated\": {}, \"lco_amplitude\": {}, \"lco_frequency_hz\": {}, "
+        "\"message\": {}}}",
+        rows.empty() ? "" : ", ", json_number(p.value), p.ok ? "true" : "false", json_number(p.growth_rate),
+        json_number(p.growth_rate_error), json_number(p.frequency_hz), p.saturated ? "true" : "false",
+        json_number(p.lco_amplitude), json_number(p.lco_frequency_hz), json_string(p.message));
   const auto& br = r.bracket;
   const std::string json = fmt::format(
       "{{\"case\": {}, \"parameter\": \"{}\", \"range\": [{}, {}], \"tolerance\": {}, \"boundary\": {}, "
@@ -482,8 +490,9 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
   const StudySignals signals;
   const auto stopped = [&] {
     if (!runner.interrupted() && g_study_signal == 0) return false;
-    spdlog::warn("study interrupted: the finished points are kept and the stopped runs have checkpoints; run the "
-                 "same command again to continue");
+    spdlog::warn(
+        "study interrupted: the finished points are kept and the stopped runs have checkpoints; run the "
+        "same command again to continue");
     return true;
   };
   std::vector<double> values;
@@ -504,8 +513,8 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
   spdlog::info("wrote {}: study.csv, study.json, points/", outdir.string());
   if (options.json) std::printf("%s\n", json.c_str());
   if (common.plot)
-    make_plot("plot_study.py", {(outdir / "study.csv").string(), "--summary", (outdir / "study.json").string(), "-o",
-                                outdir.string()},
+    make_plot("plot_study.py",
+              {(outdir / "study.csv").string(), "--summary", (outdir / "study.json").string(), "-o", outdir.string()},
               options.json);
   return 0;
 }

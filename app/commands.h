@@ -7,10 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case.h"
 #include "shellflow/run/output_dir.h"
 #include "shellflow/run/run_control.h"
-#include "shellflow/coupling/linear_flutter.h"
 
 namespace shellflow::app {
 
@@ -38,12 +38,13 @@ int run_command(const CommonOptions& options, const StopOptions& stop = {});
 /// `shellflow flutter`: the linear flutter analysis (coupling/linear_flutter.h).
 struct FlutterOptions {
   coupling::FlutterParameter parameter = coupling::FlutterParameter::lambda;
-  std::optional<std::pair<double, double>> range;  ///< default: lambda [0, max(1000, 2 lambda_case)], Mach [1.2, max(3, 2 M)]
+  std::optional<std::pair<double, double>>
+      range;  ///< default: lambda [0, max(1000, 2 lambda_case)], Mach [1.2, max(3, 2 M)]
   int points = 50;
-  int modes = 24;          ///< in-vacuo modes of the basis
-  bool direct = false;     ///< the full system instead of the modal basis
+  int modes = 24;                       ///< in-vacuo modes of the basis
+  bool direct = false;                  ///< the full system instead of the modal basis
   bool no_aerodynamic_damping = false;  ///< mu/M -> 0
-  bool json = false;       ///< print the summary on stdout
+  bool json = false;                    ///< print the summary on stdout
 };
 int flutter_command(const CommonOptions& common, const FlutterOptions& options);
 
@@ -55,6 +56,5 @@ struct StudyOptions {
 int study_command(const CommonOptions& common, const StudyOptions& options);
 int mesh_command(const CommonOptions& options, bool json);
 int check_command(const CommonOptions& options);
-
 
 }  // namespace shellflow::app

@@ -9,20 +9,20 @@
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
 // exit code is 1 (2 for a bad command line); a run stopped with a checkpoint (--stop-after,
 // --stop-at-wall, SIGINT/SIGTERM) exits with 75.
-#include <CLI/CLI.hpp>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
 #include <map>
 #include <string>
 
 #include "commands.h"
-#include "shellflow/run/run_control.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
 #include "shellflow/fluid/residual.h"
+#include "shellflow/run/run_control.h"
 
 int main(int argc, char** argv) {
   using namespace shellflow;
@@ -32,9 +32,10 @@ int main(int argc, char** argv) {
   spdlog::set_default_logger(logger);
   spdlog::set_pattern("[%H:%M:%S] %^%l%$: %v");
 
-  CLI::App cli{"shellflow: geometrically nonlinear shells in compressible gas flow "
-               "(positional shell FEM, ALE Taylor-Galerkin flow, space-mesh fluid mesh motion)",
-               "shellflow"};
+  CLI::App cli{
+      "shellflow: geometrically nonlinear shells in compressible gas flow "
+      "(positional shell FEM, ALE Taylor-Galerkin flow, space-mesh fluid mesh motion)",
+      "shellflow"};
   cli.set_version_flag("--version", std::string("shellflow ") + shellflow::version);
   cli.require_subcommand(1);
   cli.footer(
@@ -65,10 +66,10 @@ int main(int argc, char** argv) {
     sub->add_flag("!--no-plot", options.plot, "Do not make the PNG plots at the end");
   };
 
-  auto* run = cli.add_subcommand(
-      "run", "Run a case: mesh it, integrate in time (shell, flow, mesh motion, or all coupled "
-             "with a 'coupling' section: panel flutter), write .vtu/.pvd fields, probes.csv and "
-             "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png)");
+  auto* run = cli.add_subcommand("run",
+                                 "Run a case: mesh it, integrate in time (shell, flow, mesh motion, or all coupled "
+                                 "with a 'coupling' section: panel flutter), write .vtu/.pvd fields, probes.csv and "
+                                 "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png)");
   add_case(run);
   add_output(run);
   run::StopOptions stop;
@@ -84,36 +85,39 @@ int main(int argc, char** argv) {
                   "Stop at the first step boundary after SECONDS of wall time with a checkpoint (exit code 75), "
                   "e.g. before a batch queue's limit")
       ->check(CLI::PositiveNumber);
-  auto* mesh = cli.add_subcommand(
-      "mesh", "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
-              "<mesh>.vtu, print sizes and quality, plot the meshes");
+  auto* mesh = cli.add_subcommand("mesh",
+                                  "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
+                                  "<mesh>.vtu, print sizes and quality, plot the meshes");
   add_case(mesh);
   add_output(mesh);
-  mesh->add_flag("--json", json,
-                 "Print one JSON object: per mesh nodes, elements, element_type, min_quality");
-  auto* check = cli.add_subcommand(
-      "check", "Validate a case file (keys, types, ranges, files, physical groups) without "
-               "running it");
+  mesh->add_flag("--json", json, "Print one JSON object: per mesh nodes, elements, element_type, min_quality");
+  auto* check = cli.add_subcommand("check",
+                                   "Validate a case file (keys, types, ranges, files, physical groups) without "
+                                   "running it");
   add_case(check);
 
   app::FlutterOptions flutter_options;
-  auto* flutter = cli.add_subcommand(
-      "flutter", "Linear flutter analysis: the case's shell linearised about its reference state with "
-                 "first-order piston theory at the case's free stream; root locus against lambda = "
-                 "rho U^2 a^3/(beta D) or Mach, the critical point (flutter_locus.csv, flutter.json, "
-                 "flutter_locus.png); see docs/flutter.md");
+  auto* flutter =
+      cli.add_subcommand("flutter",
+                         "Linear flutter analysis: the case's shell linearised about its reference state with "
+                         "first-order piston theory at the case's free stream; root locus against lambda = "
+                         "rho U^2 a^3/(beta D) or Mach, the critical point (flutter_locus.csv, flutter.json, "
+                         "flutter_locus.png); see docs/flutter.md");
   add_case(flutter);
   add_output(flutter);
-  flutter->add_option("--parameter", flutter_options.parameter,
-                      "lambda: sweep lambda at the case's density and Mach; mach: sweep Mach at the case's "
-                      "density and pressure")
+  flutter
+      ->add_option("--parameter", flutter_options.parameter,
+                   "lambda: sweep lambda at the case's density and Mach; mach: sweep Mach at the case's "
+                   "density and pressure")
       ->transform(CLI::CheckedTransformer(std::map<std::string, coupling::FlutterParameter>{
           {"lambda", coupling::FlutterParameter::lambda}, {"mach", coupling::FlutterParameter::mach}}));
   flutter->add_option("--range", flutter_options.range,
                       "LO HI of the parameter (default: lambda 0..max(1000, 2 lambda_case), Mach "
                       "1.2..max(3, 2 M_case), widened up to 8x until a boundary is found)");
-  flutter->add_option("--points", flutter_options.points, "Parameter values of the sweep (the boundary is then "
-                                                          "bisected)")
+  flutter
+      ->add_option("--points", flutter_options.points,
+                   "Parameter values of the sweep (the boundary is then "
+                   "bisected)")
       ->check(CLI::Range(2, 100000));
   flutter->add_option("--modes", flutter_options.modes, "In-vacuo modes of the reduced basis")
       ->check(CLI::Range(1, 400));
@@ -126,22 +130,23 @@ int main(int argc, char** argv) {
                     "Print one JSON object on stdout (lambda_cr, mach_cr, frequency_hz, ...) and nothing else");
 
   app::StudyOptions study_options;
-  auto* study = cli.add_subcommand(
-      "study", "Parameter study of a coupled case (its 'study' section: Mach, density, dynamic pressure "
-               "or thickness over a range): one run per point, growth rates from response.json, the "
-               "stability boundary bracketed and refined; study.csv, study.json, study_growth.png, "
-               "study_lco.png; finished points are not rerun");
+  auto* study =
+      cli.add_subcommand("study",
+                         "Parameter study of a coupled case (its 'study' section: Mach, density, dynamic pressure "
+                         "or thickness over a range): one run per point, growth rates from response.json, the "
+                         "stability boundary bracketed and refined; study.csv, study.json, study_growth.png, "
+                         "study_lco.png; finished points are not rerun");
   add_case(study);
   add_output(study);
-  study->add_option("-j,--jobs", study_options.jobs, "Runs at once, one process each (each with one OpenMP thread "
-                                                     "when > 1 unless OMP_NUM_THREADS is set)")
+  study
+      ->add_option("-j,--jobs", study_options.jobs,
+                   "Runs at once, one process each (each with one OpenMP thread "
+                   "when > 1 unless OMP_NUM_THREADS is set)")
       ->check(CLI::Range(1, 256));
   study->add_flag("--json", study_options.json, "Print study.json on stdout and nothing else");
 
   CLI11_PARSE(cli, argc, argv);
-  spdlog::set_level(verbose ? spdlog::level::debug
-                    : quiet ? spdlog::level::warn
-                            : spdlog::level::info);
+  spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
   try {
     // A bad SHELLFLOW_SIMD is refused before anything is read or meshed.
     spdlog::debug("element pass: {}", fluid::to_string(fluid::simd_path()));

@@ -13,7 +13,6 @@
 //   BM_FlutterSweep50        its sweep of 50 lambda values + the bisection of the boundary.
 // Median of repetitions: --benchmark_repetitions=5 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
-
 #include <unistd.h>
 
 #include "shellflow/core/archive.h"
@@ -34,7 +33,8 @@ struct System {
   io::CaseMeshes meshes;
   setup::CoupledSystem s;
   explicit System(const char* file)
-      : c(io::read_case(cases / file)), meshes(io::load_case_meshes(c, std::nullopt)),
+      : c(io::read_case(cases / file)),
+        meshes(io::load_case_meshes(c, std::nullopt)),
         s(setup::build_coupled_system(c, meshes)) {
     // Past the start-up, with the panel moving.
     for (int i = 0; i < 50; ++i) s.driver->step(c.time->step);
@@ -81,8 +81,8 @@ void BM_FlowStepMoving(benchmark::State& state) {
   }
   flow.restore(start);
   state.counters["tets"] = double(sys.s.fluid_mesh->num_cells());
-  state.counters["Mtet/s"] = benchmark::Counter(double(sys.s.fluid_mesh->num_cells()) * double(state.iterations()) / 1e6,
-                                                benchmark::Counter::kIsRate);
+  state.counters["Mtet/s"] = benchmark::Counter(
+      double(sys.s.fluid_mesh->num_cells()) * double(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
 }
 BENCHMARK(BM_FlowStepMoving)->Unit(benchmark::kMillisecond);
 

@@ -44,8 +44,8 @@ struct Slab {
   double dt_f = 0.0;               ///< the sub-step
   explicit Slab(double size_factor)
       : c(io::read_case(std::filesystem::path(source_dir) / "cases" / "panel_flutter" / "clamped_clamped.yaml",
-                        std::vector<io::KeyOverride>{io::KeyOverride::parse(
-                            fmt::format("meshes.fluid.size_factor={}", size_factor))})),
+                        std::vector<io::KeyOverride>{
+                            io::KeyOverride::parse(fmt::format("meshes.fluid.size_factor={}", size_factor))})),
         meshes(io::load_case_meshes(c, std::nullopt)),
         s(setup::build_coupled_system(c, meshes)) {
     // A moving panel: two shell steps of the start-up.
@@ -80,8 +80,7 @@ bool use_simd(benchmark::State& state, std::int64_t arg) {
 }
 
 /// Per-tetrahedron figures of `steps` flow steps (0: one per iteration).
-void per_tet_counters(benchmark::State& state, const Slab& sys, double mesh, double flow_s,
-                      double steps = 0.0) {
+void per_tet_counters(benchmark::State& state, const Slab& sys, double mesh, double flow_s, double steps = 0.0) {
   const fluid::FluidModel& fluid = *sys.s.flow->flow();
   const double n = steps > 0.0 ? steps : double(state.iterations());
   const double tets = double(sys.s.fluid_mesh->num_cells());

@@ -1,11 +1,11 @@
 // Shape function evaluation as the shell kernel (Tri10 gradients at quadrature points) and
 // the space-mesh locator (Tet20 values and gradients at arbitrary points) call it, through
 // the element classes and through the runtime facade.
+#include <benchmark/benchmark.h>
+
 #include <array>
 #include <random>
 #include <vector>
-
-#include <benchmark/benchmark.h>
 
 #include "shellflow/fem/quadrature.h"
 #include "shellflow/fem/reference_element.h"

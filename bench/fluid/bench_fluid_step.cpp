@@ -12,15 +12,15 @@
 #include <cmath>
 #include <ctime>
 #include <fstream>
-#include <string>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "box_mesh.h"
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/fluid_model.h"
-#include "shellflow/fluid/residual.h"
 #include "shellflow/fluid/ordering.h"
+#include "shellflow/fluid/residual.h"
 
 using namespace shellflow;
 using namespace shellflow::fluid;
@@ -35,22 +35,22 @@ namespace {
 // check, density-rate monitor.
 double compulsory_bytes_per_tet(double nodes_per_tet) {
   const double conn = 16, grad = 96, scalar = 8;
-  const double per_element = (conn + grad + scalar)      // gradient projection: B, V
-                             + (conn + grad + 2 * scalar)  // Laplacian + smoothing: B, h, V
-                             + (conn + scalar)             // element mean: write nu
-                             + (conn + 2 * scalar)         // time step: h, nu
+  const double per_element = (conn + grad + scalar)         // gradient projection: B, V
+                             + (conn + grad + 2 * scalar)   // Laplacian + smoothing: B, h, V
+                             + (conn + scalar)              // element mean: write nu
+                             + (conn + 2 * scalar)          // time step: h, nu
                              + (conn + grad + 2 * scalar);  // residual: B, V, nu
-  const double per_node = (40 + 16)            // state -> p, |u| + c
-                          + (24 + 48 + 8 + 48)  // gradient: zero, scatter, read M, scale
-                          + (24 + 8 + 8)        // Laplacian gathers: grad p, |u| + c, p
-                          + (8 + 16 + 8 + 16)   // nodal nu: zero, scatter, read M, divide
-                          + 8                   // element mean: gather nu_a
-                          + (40 + 24 + 32 + 32)  // time step: state, w -> nodal speeds, gather
-                          + 2 * 24              // w of the step: write, test
-                          + 40 + (40 + 80)      // zero r; residual gathers U, scatter r
-                          + (40 + 40 + 8 + 40)  // update: U, r, M -> U*
-                          + 40                  // positivity check
-                          + 2 * 8;              // density rate: rho^n, rho^{n+1}
+  const double per_node = (40 + 16)                         // state -> p, |u| + c
+                          + (24 + 48 + 8 + 48)              // gradient: zero, scatter, read M, scale
+                          + (24 + 8 + 8)                    // Laplacian gathers: grad p, |u| + c, p
+                          + (8 + 16 + 8 + 16)               // nodal nu: zero, scatter, read M, divide
+                          + 8                               // element mean: gather nu_a
+                          + (40 + 24 + 32 + 32)             // time step: state, w -> nodal speeds, gather
+                          + 2 * 24                          // w of the step: write, test
+                          + 40 + (40 + 80)                  // zero r; residual gathers U, scatter r
+                          + (40 + 40 + 8 + 40)              // update: U, r, M -> U*
+                          + 40                              // positivity check
+                          + 2 * 8;                          // density rate: rho^n, rho^{n+1}
   return per_element + nodes_per_tet * per_node;
 }
 
@@ -107,17 +107,14 @@ void FluidStep(benchmark::State& st) {
   const double nodes = model.mesh().num_nodes();
   st.counters["tets"] = tets;
   st.counters["colours"] = model.num_colours();
-  st.counters["tet_updates_per_s"] =
-      benchmark::Counter(tets * double(st.iterations()), benchmark::Counter::kIsRate);
-  st.counters["per_core"] = benchmark::Counter(tets * double(st.iterations()) / threads,
-                                               benchmark::Counter::kIsRate);
+  st.counters["tet_updates_per_s"] = benchmark::Counter(tets * double(st.iterations()), benchmark::Counter::kIsRate);
+  st.counters["per_core"] = benchmark::Counter(tets * double(st.iterations()) / threads, benchmark::Counter::kIsRate);
   st.counters["memory_per_tet"] = double(model.memory_bytes()) / tets;  // arrays of the model
-  st.counters["rss_per_tet"] = rss_model / tets;  // RSS growth (0 when memory is reused)
+  st.counters["rss_per_tet"] = rss_model / tets;                        // RSS growth (0 when memory is reused)
   st.counters["per_core_cpu"] = tets * double(st.iterations()) / cpu_seconds;
   const double bytes = compulsory_bytes_per_tet(nodes / tets);
   st.counters["bytes_per_tet"] = bytes;
-  st.counters["bandwidth"] = benchmark::Counter(bytes * tets * double(st.iterations()),
-                                                benchmark::Counter::kIsRate,
+  st.counters["bandwidth"] = benchmark::Counter(bytes * tets * double(st.iterations()), benchmark::Counter::kIsRate,
                                                 benchmark::Counter::kIs1024);
 }
 // Arguments: n (12: 10 368 tets, 26: 105 456, 55: 998 250), threads, instruction set of the
@@ -145,8 +142,7 @@ void StreamTriad(benchmark::State& st) {
     benchmark::DoNotOptimize(pa);
     benchmark::ClobberMemory();
   }
-  st.counters["bandwidth"] = benchmark::Counter(24.0 * double(n) * double(st.iterations()),
-                                                benchmark::Counter::kIsRate,
+  st.counters["bandwidth"] = benchmark::Counter(24.0 * double(n) * double(st.iterations()), benchmark::Counter::kIsRate,
                                                 benchmark::Counter::kIs1024);
 }
 BENCHMARK(StreamTriad)->ArgNames({"threads"})->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -49,10 +49,10 @@ int main() {
     counting::Real value[4][num_variables];
     detail::element_contributions(k, s, counting::Real(0.01), counting::Real(1e-3), counting::Real(1e-3), value);
     const long total = counting::adds + counting::muls + counting::divs;
-    std::printf("%s mesh: %ld flops per tetrahedron (compute_element %ld, contributions %ld; "
-                "%ld add/sub, %ld mul, %ld div), + 20 adds of the scatter\n",
-                moves ? "moving" : "fixed", total, kernel, total - kernel, counting::adds, counting::muls,
-                counting::divs);
+    std::printf(
+        "%s mesh: %ld flops per tetrahedron (compute_element %ld, contributions %ld; "
+        "%ld add/sub, %ld mul, %ld div), + 20 adds of the scatter\n",
+        moves ? "moving" : "fixed", total, kernel, total - kernel, counting::adds, counting::muls, counting::divs);
   }
   return 0;
 }

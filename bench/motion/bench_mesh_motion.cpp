@@ -38,8 +38,7 @@ using namespace shellflow::motion;
 
 namespace {
 
-const std::filesystem::path panel_dir =
-    std::filesystem::path(source_dir) / "cases" / "panel_flutter";
+const std::filesystem::path panel_dir = std::filesystem::path(source_dir) / "cases" / "panel_flutter";
 constexpr double kNodesAtUnitSize = 8622.0;  // fluid_slab.geo at size_factor 1
 constexpr double kTimeStep = 1e-5;
 
@@ -59,16 +58,13 @@ const mesh::Mesh& shell_mesh() {
   return m;
 }
 
-BoundaryGroups panel_groups() {
-  return {{"panel"}, {"inflow", "outflow", "far_field", "wall"}, {"symmetry"}};
-}
+BoundaryGroups panel_groups() { return {{"panel"}, {"inflow", "outflow", "far_field", "wall"}, {"symmetry"}}; }
 
 /// One fluid mesh size, with its movers built on first use and kept for the whole run
 /// (Google Benchmark calls a benchmark function several times).
 struct Setup {
   mesh::Mesh fluid;
-  PanelModesMotion motion{
-      Vec3(0.25, 0, 0), Vec3::UnitX(), 0.5, Vec3::UnitY(), {{1, TimeFunction::sine(0.02, 30.0)}}};
+  PanelModesMotion motion{Vec3(0.25, 0, 0), Vec3::UnitX(), 0.5, Vec3::UnitY(), {{1, TimeFunction::sine(0.02, 30.0)}}};
   std::unique_ptr<FluidMeshMover> space, direct, laplace;
   double space_setup_s = 0, direct_setup_s = 0, laplace_setup_s = 0;
   std::vector<Vec3> x, w;
@@ -88,12 +84,10 @@ mesh::Mesh stack_layers(const mesh::Mesh& slab, int layers, double width) {
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3& X = slab.nodes[i];
     level[i] = X.z() > 0.5 * width ? 1 : 0;
-    point[i] =
-        point_of.try_emplace({X.x(), X.y()}, static_cast<Index>(point_of.size())).first->second;
+    point[i] = point_of.try_emplace({X.x(), X.y()}, static_cast<Index>(point_of.size())).first->second;
   }
   const auto n2d = static_cast<Index>(point_of.size());
-  if (2 * static_cast<std::size_t>(n2d) != n)
-    throw std::runtime_error("stack_layers: not a one-layer slab");
+  if (2 * static_cast<std::size_t>(n2d) != n) throw std::runtime_error("stack_layers: not a one-layer slab");
   mesh::Mesh m;
   m.name = "fluid";
   m.source = slab.source + " (stacked)";
@@ -101,8 +95,7 @@ mesh::Mesh stack_layers(const mesh::Mesh& slab, int layers, double width) {
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = level[i]; k <= layers - 1 + level[i]; ++k) {
       const Vec3& X = slab.nodes[i];
-      m.nodes[static_cast<std::size_t>(point[i] + k * n2d)] =
-          Vec3(X.x(), X.y(), width * k / layers);
+      m.nodes[static_cast<std::size_t>(point[i] + k * n2d)] = Vec3(X.x(), X.y(), width * k / layers);
     }
   }
   m.node_tags.resize(m.nodes.size());
@@ -189,8 +182,7 @@ SpaceMeshOptions space_options() {
   return o;
 }
 
-void run(benchmark::State& st, Setup& s, FluidMeshMover& m, double setup_seconds,
-         int untimed_updates = 0) {
+void run(benchmark::State& st, Setup& s, FluidMeshMover& m, double setup_seconds, int untimed_updates = 0) {
   // The Laplacian solves are warm-started from the previous two updates: time steady steps.
   for (int i = 0; i < untimed_updates; ++i) {
     s.time += kTimeStep;
@@ -206,32 +198,28 @@ void run(benchmark::State& st, Setup& s, FluidMeshMover& m, double setup_seconds
   st.counters["tets"] = static_cast<double>(s.fluid.num_cells());
   st.counters["memory_MB"] = static_cast<double>(m.memory_bytes()) / 1e6;
   st.counters["setup_s"] = setup_seconds;
-  if (const auto* l = dynamic_cast<const LaplaceMover*>(&m))
-    st.counters["cg_iterations"] = l->last_iterations();
+  if (const auto* l = dynamic_cast<const LaplaceMover*>(&m)) st.counters["cg_iterations"] = l->last_iterations();
 }
 
 void SpaceMeshUpdate(benchmark::State& st) {
   auto& s = setup(static_cast<int>(st.range(0)));
   auto& m = mover(s.space, s.space_setup_s, [&] {
-    return std::make_unique<SpaceMeshMover>(s.fluid, space_mesh(), space_options(), s.motion,
-                                            shell_mesh().nodes);
+    return std::make_unique<SpaceMeshMover>(s.fluid, space_mesh(), space_options(), s.motion, shell_mesh().nodes);
   });
   run(st, s, m, s.space_setup_s);
 }
 
 void DirectIdwUpdate(benchmark::State& st) {
   auto& s = setup(static_cast<int>(st.range(0)));
-  auto& m = mover(s.direct, s.direct_setup_s, [&] {
-    return std::make_unique<DirectIdwMover>(s.fluid, panel_groups(), s.motion);
-  });
+  auto& m = mover(s.direct, s.direct_setup_s,
+                  [&] { return std::make_unique<DirectIdwMover>(s.fluid, panel_groups(), s.motion); });
   run(st, s, m, s.direct_setup_s);
 }
 
 void LaplaceUpdate(benchmark::State& st) {
   auto& s = setup(static_cast<int>(st.range(0)));
-  auto& m = mover(s.laplace, s.laplace_setup_s, [&] {
-    return std::make_unique<LaplaceMover>(s.fluid, panel_groups(), s.motion);
-  });
+  auto& m = mover(s.laplace, s.laplace_setup_s,
+                  [&] { return std::make_unique<LaplaceMover>(s.fluid, panel_groups(), s.motion); });
   run(st, s, m, s.laplace_setup_s, 3);
 }
 
@@ -244,8 +232,7 @@ void Stream(benchmark::State& st) {
   const Vec3 d(1e-3, 2e-3, 0.0);
   for (auto _ : st) {
 #pragma omp parallel for schedule(static)
-    for (std::ptrdiff_t p = 0; p < n; ++p)
-      s.x[static_cast<std::size_t>(p)] = X[static_cast<std::size_t>(p)] + d;
+    for (std::ptrdiff_t p = 0; p < n; ++p) s.x[static_cast<std::size_t>(p)] = X[static_cast<std::size_t>(p)] + d;
     benchmark::DoNotOptimize(s.x.data());
     benchmark::ClobberMemory();
   }
@@ -256,13 +243,7 @@ void Stream(benchmark::State& st) {
 }  // namespace
 
 // Order: stream first so that the mesh of each size is generated outside the timings.
-BENCHMARK(Stream)
-    ->Arg(10000)
-    ->Arg(80000)
-    ->Arg(100000)
-    ->Arg(1000000)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(Stream)->Arg(10000)->Arg(80000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(SpaceMeshUpdate)
     ->Arg(10000)
     ->Arg(80000)
@@ -272,20 +253,10 @@ BENCHMARK(SpaceMeshUpdate)
     ->UseRealTime();
 // Direct IDW at 1e6 nodes: ~1e4 boundary nodes x 1e6 nodes = 1e10 weights per update
 // (minutes; 8 s at 1e5 nodes): skipped.
-BENCHMARK(DirectIdwUpdate)
-    ->Arg(10000)
-    ->Arg(80000)
-    ->Arg(100000)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(DirectIdwUpdate)->Arg(10000)->Arg(80000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 // Laplacian at 1e6 nodes: several hundred CG iterations x 4 solves per update on 1e6
 // unknowns (iterations grow like 1/h; over a minute per update on the reference machine):
 // skipped.
-BENCHMARK(LaplaceUpdate)
-    ->Arg(10000)
-    ->Arg(80000)
-    ->Arg(100000)
-    ->Unit(benchmark::kMillisecond)
-    ->UseRealTime();
+BENCHMARK(LaplaceUpdate)->Arg(10000)->Arg(80000)->Arg(100000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 BENCHMARK_MAIN();

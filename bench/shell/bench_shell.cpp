@@ -3,13 +3,13 @@
 // cubic meshes) and on a 10 000-node Scordelis-Lo panel (panel_33x33.geo); assembly alone
 // with 1 and 2 threads (wall time for the panel); LDLT vs LU factorisation; one Newmark
 // step of the strip; the whole Sze 3.1 load path.
-#include <filesystem>
-#include <memory>
-
-#include <Eigen/SparseLU>
 #include <benchmark/benchmark.h>
 #include <fmt/format.h>
 #include <omp.h>
+
+#include <Eigen/SparseLU>
+#include <filesystem>
+#include <memory>
 
 #include "shellflow/core/version.h"
 #include "shellflow/mesh/gmsh_io.h"
@@ -206,7 +206,10 @@ void BM_Factorisation(benchmark::State& state) {
   prepare.solve(K, model.constrained(), tmp);  // applies the supports to K
   Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt;
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> sparse_lu;
-  if (lu) sparse_lu.analyzePattern(K); else ldlt.analyzePattern(K);
+  if (lu)
+    sparse_lu.analyzePattern(K);
+  else
+    ldlt.analyzePattern(K);
   for (auto _ : state) {
     Eigen::VectorXd x;
     if (lu) {

@@ -109,16 +109,14 @@ TEST(ReadCase, FullCaseParsesWithDefaultsApplied) {
 
   // Every group, with the mesh it belongs to and where it was named, in file order.
   const std::vector<std::pair<std::string, std::string>> groups = {
-      {"leading_edge", "shell"}, {"side", "shell"},  {"inflow", "fluid"},
-      {"outflow", "fluid"},      {"panel", "fluid"}, {"panel", "fluid"},
-      {"panel_surface", "shell"}};
+      {"leading_edge", "shell"}, {"side", "shell"},  {"inflow", "fluid"},       {"outflow", "fluid"},
+      {"panel", "fluid"},        {"panel", "fluid"}, {"panel_surface", "shell"}};
   ASSERT_EQ(c.group_references.size(), groups.size());
   for (std::size_t i = 0; i < groups.size(); ++i) {
     EXPECT_EQ(c.group_references[i].group, groups[i].first) << i;
     EXPECT_EQ(c.group_references[i].mesh, groups[i].second) << i;
   }
-  EXPECT_EQ(c.group_references[0].where.message("m"),
-            at("full.yaml", 12, "shell.supports[0].group: m"));
+  EXPECT_EQ(c.group_references[0].where.message("m"), at("full.yaml", 12, "shell.supports[0].group: m"));
   EXPECT_EQ(c.group_references[5].where.key_path, "probes[1].group");
 }
 
@@ -173,15 +171,13 @@ TEST(ReadCase, MisspelledTopLevelKeyIsUnknownWithSuggestion) {
 }
 
 TEST(ReadCase, MisspelledNestedKeyIsUnknownWithSuggestion) {
-  EXPECT_EQ(
-      case_error("unknown_key_nested.yaml"),
-      at("unknown_key_nested.yaml", 5, "meshes.fluid.ordr: unknown key; did you mean 'order'?"));
+  EXPECT_EQ(case_error("unknown_key_nested.yaml"),
+            at("unknown_key_nested.yaml", 5, "meshes.fluid.ordr: unknown key; did you mean 'order'?"));
 }
 
 TEST(ReadCase, MisspelledRequiredKeyIsReportedWhereItIs) {
-  EXPECT_EQ(
-      case_error("misspelled_required.yaml"),
-      at("misspelled_required.yaml", 5, "shell.thicknes: unknown key; did you mean 'thickness'?"));
+  EXPECT_EQ(case_error("misspelled_required.yaml"),
+            at("misspelled_required.yaml", 5, "shell.thicknes: unknown key; did you mean 'thickness'?"));
 }
 
 TEST(ReadCase, WrongTypeNamesTheKeyAndTheExpectedType) {
@@ -203,14 +199,12 @@ TEST(ReadCase, NegativeThicknessIsOutOfRange) {
 
 TEST(ReadCase, PoissonRatioOutOfRange) {
   EXPECT_EQ(case_error("poisson_out_of_range.yaml"),
-            at("poisson_out_of_range.yaml", 8,
-               "shell.material.poisson_ratio: must be in (-1, 0.5), got 0.6"));
+            at("poisson_out_of_range.yaml", 8, "shell.material.poisson_ratio: must be in (-1, 0.5), got 0.6"));
 }
 
 TEST(ReadCase, BothGeoAndMshIsAnError) {
   EXPECT_EQ(case_error("geo_and_msh.yaml"),
-            at("geo_and_msh.yaml", 4,
-               "meshes.shell: both 'geo' and 'msh' given; expected exactly one of them"));
+            at("geo_and_msh.yaml", 4, "meshes.shell: both 'geo' and 'msh' given; expected exactly one of them"));
 }
 
 TEST(ReadCase, MissingMeshFileNamesTheKeyAndThePathLookedFor) {
@@ -256,11 +250,10 @@ TEST(CheckPhysicalGroups, MissingGroupIsReportedAtItsLine) {
     check_physical_groups(c, groups);
     ADD_FAILURE() << "no InputError thrown";
   } catch (const InputError& e) {
-    EXPECT_EQ(std::string(e.what()),
-              at("group_typo.yaml", 10,
-                 "shell.supports[2].group: physical group 'leadng_edge' not found in mesh "
-                 "'shell' (panel_strip.geo); did you mean 'leading_edge'? available: "
-                 "leading_edge, trailing_edge, panel"));
+    EXPECT_EQ(std::string(e.what()), at("group_typo.yaml", 10,
+                                        "shell.supports[2].group: physical group 'leadng_edge' not found in mesh "
+                                        "'shell' (panel_strip.geo); did you mean 'leading_edge'? available: "
+                                        "leading_edge, trailing_edge, panel"));
   }
   EXPECT_EQ(calls, 1);  // asked once per mesh
 }
@@ -268,13 +261,9 @@ TEST(CheckPhysicalGroups, MissingGroupIsReportedAtItsLine) {
 TEST(CheckPhysicalGroups, PassesWhenEveryGroupExists) {
   const Case c = read_case(data("full.yaml"));
   const std::map<std::string, std::vector<std::string>, std::less<>> groups = {
-      {"shell", {"leading_edge", "side", "panel_surface"}},
-      {"fluid", {"inflow", "outflow", "panel"}}};
-  EXPECT_NO_THROW(
-      check_physical_groups(c, [&](std::string_view mesh) { return groups.find(mesh)->second; }));
-  EXPECT_THROW(
-      check_physical_groups(c, [](std::string_view) { return std::vector<std::string>{}; }),
-      InputError);
+      {"shell", {"leading_edge", "side", "panel_surface"}}, {"fluid", {"inflow", "outflow", "panel"}}};
+  EXPECT_NO_THROW(check_physical_groups(c, [&](std::string_view mesh) { return groups.find(mesh)->second; }));
+  EXPECT_THROW(check_physical_groups(c, [](std::string_view) { return std::vector<std::string>{}; }), InputError);
 }
 
 // Smaller error classes, from text (mesh paths resolve against the data directory).
@@ -294,14 +283,12 @@ const std::string kShellHead =
 
 TEST(ReadCaseErrors, NamesMustBeFileSafe) {
   EXPECT_EQ(text_error("name: my case\nmeshes: { shell: { geo: panel_strip.geo } }\n"),
-            at("inline.yaml", 1,
-               "name: must contain only letters, digits, '_', '.' and '-', got 'my case'"));
+            at("inline.yaml", 1, "name: must contain only letters, digits, '_', '.' and '-', got 'my case'"));
 }
 
 TEST(ReadCaseErrors, MeshesNeedAtLeastOneMesh) {
   EXPECT_EQ(text_error("name: t\nmeshes: {}\n"),
-            at("inline.yaml", 2,
-               "meshes: no mesh given; expected at least one of 'fluid', 'space', 'shell'"));
+            at("inline.yaml", 2, "meshes: no mesh given; expected at least one of 'fluid', 'space', 'shell'"));
   EXPECT_EQ(text_error("name: t\nmeshes:\n  fliud: { geo: fluid_slab.geo }\n"),
             at("inline.yaml", 3, "meshes.fliud: unknown key; did you mean 'fluid'?"));
 }
@@ -309,9 +296,8 @@ TEST(ReadCaseErrors, MeshesNeedAtLeastOneMesh) {
 TEST(ReadCaseErrors, MeshOrderAndExtension) {
   EXPECT_EQ(text_error("name: t\nmeshes: { shell: { geo: panel_strip.geo, order: 4 } }\n"),
             at("inline.yaml", 2, "meshes.shell.order: must be in [1, 3], got 4"));
-  EXPECT_EQ(
-      text_error("name: t\nmeshes: { shell: { geo: panel_strip.msh } }\n"),
-      at("inline.yaml", 2, "meshes.shell.geo: expected a Gmsh .geo file, got 'panel_strip.msh'"));
+  EXPECT_EQ(text_error("name: t\nmeshes: { shell: { geo: panel_strip.msh } }\n"),
+            at("inline.yaml", 2, "meshes.shell.geo: expected a Gmsh .geo file, got 'panel_strip.msh'"));
   EXPECT_EQ(text_error("name: t\nmeshes: { shell: { msh: panel_strip.msh, order: 2 } }\n"),
             at("inline.yaml", 2,
                "meshes.shell.order: applies only to meshes given by 'geo'; a .msh file is used "
@@ -319,10 +305,8 @@ TEST(ReadCaseErrors, MeshOrderAndExtension) {
 }
 
 TEST(ReadCaseErrors, SectionsNeedTheirMesh) {
-  EXPECT_EQ(
-      text_error(kShellHead + "fluid:\n  free_stream: { density: 1, pressure: 1, mach: 2 }\n"),
-      at("inline.yaml", 3,
-         "fluid: needs a fluid mesh; expected 'meshes.fluid' with 'geo' or 'msh'"));
+  EXPECT_EQ(text_error(kShellHead + "fluid:\n  free_stream: { density: 1, pressure: 1, mach: 2 }\n"),
+            at("inline.yaml", 3, "fluid: needs a fluid mesh; expected 'meshes.fluid' with 'geo' or 'msh'"));
 }
 
 TEST(ReadCaseErrors, SupportTypesAndSlidingDirection) {
@@ -338,11 +322,9 @@ TEST(ReadCaseErrors, SupportTypesAndSlidingDirection) {
   EXPECT_EQ(text_error(shell + "    - { group: a, type: sliding }\n"),
             at("inline.yaml", 7, "shell.supports[0]: missing required key 'direction'"));
   EXPECT_EQ(text_error(shell + "    - { group: a, type: sliding, direction: [0, 0, 0] }\n"),
-            at("inline.yaml", 7,
-               "shell.supports[0].direction: must be a non-zero vector [x, y, z], got [0, 0, 0]"));
+            at("inline.yaml", 7, "shell.supports[0].direction: must be a non-zero vector [x, y, z], got [0, 0, 0]"));
   EXPECT_EQ(text_error(shell + "    - { group: a, type: clamped, direction: [1, 0, 0] }\n"),
-            at("inline.yaml", 7,
-               "shell.supports[0].direction: applies only to supports of type 'sliding'"));
+            at("inline.yaml", 7, "shell.supports[0].direction: applies only to supports of type 'sliding'"));
 }
 
 TEST(ReadCaseErrors, FluidValues) {
@@ -377,9 +359,8 @@ TEST(ReadCaseErrors, ProbeFieldsAndLocations) {
             at("inline.yaml", 4,
                "probes[0].field: expected 'MESH.QUANTITY' with MESH one of fluid, space, shell, "
                "got 'pressure'"));
-  EXPECT_EQ(
-      text_error(head + "  - { name: a, field: fluid.pressure, point: [0, 0, 0] }\n"),
-      at("inline.yaml", 4, "probes[0].field: the case has no fluid mesh; expected 'meshes.fluid'"));
+  EXPECT_EQ(text_error(head + "  - { name: a, field: fluid.pressure, point: [0, 0, 0] }\n"),
+            at("inline.yaml", 4, "probes[0].field: the case has no fluid mesh; expected 'meshes.fluid'"));
   EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity }\n"),
             at("inline.yaml", 4, "probes[0]: missing required key 'point', 'node' or 'group'"));
   EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity, node: 1, group: g }\n"),
@@ -393,8 +374,7 @@ TEST(ReadCaseErrors, ProbeFieldsAndLocations) {
                "probes[0].name: 'time' is reserved for the time column of probes.csv; expected "
                "another name"));
   EXPECT_EQ(text_error(head + "  - { name: a, field: shell.velocity, component: w, node: 1 }\n"),
-            at("inline.yaml", 4,
-               "probes[0].component: unknown value 'w'; expected one of: x, y, z, magnitude"));
+            at("inline.yaml", 4, "probes[0].component: unknown value 'w'; expected one of: x, y, z, magnitude"));
 }
 
 TEST(ReadCaseErrors, OutputEvery) {
@@ -419,23 +399,23 @@ const std::string kPanelMode =
     "                modes: [{ amplitude: { type: constant, value: 0.01 } }] }\n";
 
 TEST(ReadCase, MotionAndTimeSectionsParseWithDefaults) {
-  const Case c = read_case_string(
-      kMotionHead +
-          "motion:\n"
-          "  interface_groups: [panel]\n"
-          "  fixed_groups: [inflow, wall]\n"
-          "  sliding_groups: [symmetry]\n"
-          "  prescribed:\n"
-          "    type: panel_modes\n"
-          "    leading_edge: [0.25, 0, 0]\n"
-          "    length: 0.5\n"
-          "    normal: [0, 2, 0]\n"
-          "    modes:\n"
-          "      - { amplitude: { type: ramp, value: 0.1, duration: 2 } }\n"
-          "      - { wave_number: 2, amplitude: { type: tabulated, times: [0, 1], values: [0, "
-          "0.04] } }\n"
-          "time: { end: 1, step: 0.01 }\n",
-      data("inline.yaml"));
+  const Case c =
+      read_case_string(kMotionHead +
+                           "motion:\n"
+                           "  interface_groups: [panel]\n"
+                           "  fixed_groups: [inflow, wall]\n"
+                           "  sliding_groups: [symmetry]\n"
+                           "  prescribed:\n"
+                           "    type: panel_modes\n"
+                           "    leading_edge: [0.25, 0, 0]\n"
+                           "    length: 0.5\n"
+                           "    normal: [0, 2, 0]\n"
+                           "    modes:\n"
+                           "      - { amplitude: { type: ramp, value: 0.1, duration: 2 } }\n"
+                           "      - { wave_number: 2, amplitude: { type: tabulated, times: [0, 1], values: [0, "
+                           "0.04] } }\n"
+                           "time: { end: 1, step: 0.01 }\n",
+                       data("inline.yaml"));
   ASSERT_TRUE(c.motion && c.time);
   EXPECT_EQ(c.motion->method, MotionMethod::space_mesh);
   EXPECT_EQ(c.motion->weighting, MotionWeighting::plain);
@@ -461,22 +441,18 @@ TEST(ReadCaseErrors, MotionSection) {
   EXPECT_EQ(text_error(kMotionHead + "motion: { interface_groups: [panel] }\n"),
             at("inline.yaml", 3, "motion: a mesh-motion run needs a 'time' section (end, step)"));
   EXPECT_EQ(text_error(kMotionHead + "motion: { interface_groups: [] }\n"),
-            at("inline.yaml", 3,
-               "motion.interface_groups: expected a list of the moving boundary's physical groups"));
+            at("inline.yaml", 3, "motion.interface_groups: expected a list of the moving boundary's physical groups"));
   EXPECT_EQ(text_error(kMotionHead + "motion: { method: laplac, interface_groups: [panel] }\n"),
             at("inline.yaml", 3,
                "motion.method: unknown value 'laplac'; did you mean 'laplace'? (one of: "
                "space_mesh, direct_idw, laplace)"));
   EXPECT_EQ(text_error("name: t\nmeshes: { fluid: { geo: fluid_slab.geo } }\n"
                        "motion: { interface_groups: [panel] }\n"),
-            at("inline.yaml", 3,
-               "motion: needs a space mesh; expected 'meshes.space' with 'geo' or 'msh'"));
-  EXPECT_EQ(
-      text_error(kMotionHead +
-                 "motion:\n  interface_groups: [panel]\n  prescribed:\n    type: panel_modes\n"
-                 "    leading_edge: [0, 0, 0]\n    length: 0.5\n    modes:\n"
-                 "      - { amplitude: { type: ramp, value: 1, duration: -1 } }\n"),
-      at("inline.yaml", 10, "motion.prescribed.modes[0].amplitude.duration: must be > 0 s, got -1"));
+            at("inline.yaml", 3, "motion: needs a space mesh; expected 'meshes.space' with 'geo' or 'msh'"));
+  EXPECT_EQ(text_error(kMotionHead + "motion:\n  interface_groups: [panel]\n  prescribed:\n    type: panel_modes\n"
+                                     "    leading_edge: [0, 0, 0]\n    length: 0.5\n    modes:\n"
+                                     "      - { amplitude: { type: ramp, value: 1, duration: -1 } }\n"),
+            at("inline.yaml", 10, "motion.prescribed.modes[0].amplitude.duration: must be > 0 s, got -1"));
   EXPECT_EQ(text_error(kMotionHead + "time: { end: 1, step: 2 }\n"),
             at("inline.yaml", 3, "time.step: must not exceed time.end = 1 s"));
   // What `run` refuses before it starts, `check` refuses: no boundary motion, no coupling.
@@ -484,9 +460,9 @@ TEST(ReadCaseErrors, MotionSection) {
             at("inline.yaml", 3,
                "motion: a mesh-motion run without a 'coupling' section needs 'prescribed' (the boundary "
                "motion); add it, or a 'coupling' section to let the shell drive it"));
-  EXPECT_NO_THROW(read_case_string(kMotionHead + "motion:\n  interface_groups: [panel]\n" + kPanelMode +
-                                       "time: { end: 1, step: 0.1 }\n",
-                                   data("inline.yaml")));
+  EXPECT_NO_THROW(read_case_string(
+      kMotionHead + "motion:\n  interface_groups: [panel]\n" + kPanelMode + "time: { end: 1, step: 0.1 }\n",
+      data("inline.yaml")));
 }
 
 TEST(CheckPhysicalGroups, MotionGroupsAreCheckedOnTheSpaceMeshToo) {
@@ -520,21 +496,21 @@ const std::string kShellCase =
     "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n";
 
 TEST(ReadCase, ShellLoadsAndAnalysisParse) {
-  const Case c = read_case_string(
-      kShellCase +
-          "  supports:\n"
-          "    - { group: a, type: symmetry, normal: [0, 0, 2] }\n"
-          "    - { group: b, type: sliding, direction: [1, 0, 0], clamp_director: false }\n"
-          "  loads:\n"
-          "    - { type: line, group: tip, force_per_length: [0, 0, 4] }\n"
-          "    - { type: point, point: [1, 0, 0], force: [0, 1, 0] }\n"
-          "    - { type: edge_couple, group: tip, axis: [0, -2, 0], moment_per_length: 5 }\n"
-          "    - { type: pressure, pressure: 100 }\n"
-          "    - { type: gravity, acceleration: [0, 0, -9.81] }\n"
-          "  analysis: { type: dynamic, mass_damping: 0.5,\n"
-          "              load_function: { type: ramp, value: 2, duration: 0.1 } }\n"
-          "time: { end: 1, step: 0.1 }\n",
-      data("inline.yaml"));
+  const Case c =
+      read_case_string(kShellCase +
+                           "  supports:\n"
+                           "    - { group: a, type: symmetry, normal: [0, 0, 2] }\n"
+                           "    - { group: b, type: sliding, direction: [1, 0, 0], clamp_director: false }\n"
+                           "  loads:\n"
+                           "    - { type: line, group: tip, force_per_length: [0, 0, 4] }\n"
+                           "    - { type: point, point: [1, 0, 0], force: [0, 1, 0] }\n"
+                           "    - { type: edge_couple, group: tip, axis: [0, -2, 0], moment_per_length: 5 }\n"
+                           "    - { type: pressure, pressure: 100 }\n"
+                           "    - { type: gravity, acceleration: [0, 0, -9.81] }\n"
+                           "  analysis: { type: dynamic, mass_damping: 0.5,\n"
+                           "              load_function: { type: ramp, value: 2, duration: 0.1 } }\n"
+                           "time: { end: 1, step: 0.1 }\n",
+                       data("inline.yaml"));
   ASSERT_TRUE(c.shell && c.shell->analysis);
   const auto& s = *c.shell;
   EXPECT_EQ(s.supports[0].normal, Vec3::UnitZ());
@@ -554,20 +530,20 @@ TEST(ReadCase, ShellLoadsAndAnalysisParse) {
 }
 
 TEST(ReadCase, PrescribedAndHardSupportsSurfaceTractionAndStressOutput) {
-  const Case c = read_case_string(
-      kShellCase +
-          "  supports:\n"
-          "    - { group: a, type: prescribed, displacement: [0, 0, 0.01],\n"
-          "        history: { type: ramp, value: 1, duration: 0.5 },\n"
-          "        rotation_axis: [0, 3, 0], rotation_angle: { type: constant, value: 0.2 } }\n"
-          "    - { group: b, type: prescribed, displacement: [1, 0, 0] }\n"
-          "    - { group: c, type: simply_supported_hard }\n"
-          "    - { group: d, type: sliding, direction: [1, 1, 0] }\n"
-          "  loads:\n"
-          "    - { type: surface, traction: [0, 0, -50] }\n"
-          "    - { type: surface, group: top, traction: [1, 0, 0] }\n"
-          "output: { shell_stress: second_piola_kirchhoff }\n",
-      data("inline.yaml"));
+  const Case c =
+      read_case_string(kShellCase +
+                           "  supports:\n"
+                           "    - { group: a, type: prescribed, displacement: [0, 0, 0.01],\n"
+                           "        history: { type: ramp, value: 1, duration: 0.5 },\n"
+                           "        rotation_axis: [0, 3, 0], rotation_angle: { type: constant, value: 0.2 } }\n"
+                           "    - { group: b, type: prescribed, displacement: [1, 0, 0] }\n"
+                           "    - { group: c, type: simply_supported_hard }\n"
+                           "    - { group: d, type: sliding, direction: [1, 1, 0] }\n"
+                           "  loads:\n"
+                           "    - { type: surface, traction: [0, 0, -50] }\n"
+                           "    - { type: surface, group: top, traction: [1, 0, 0] }\n"
+                           "output: { shell_stress: second_piola_kirchhoff }\n",
+                       data("inline.yaml"));
   ASSERT_TRUE(c.shell);
   const auto& s = *c.shell;
   ASSERT_EQ(s.supports.size(), 4u);
@@ -587,18 +563,17 @@ TEST(ReadCase, PrescribedAndHardSupportsSurfaceTractionAndStressOutput) {
   EXPECT_EQ(s.loads[0].vector, Vec3(0, 0, -50));
   EXPECT_EQ(s.loads[1].group, "top");
   EXPECT_EQ(c.output.shell_stress, OutputSection::ShellStress::second_piola_kirchhoff);
-  EXPECT_EQ(read_case_string(kShellCase, data("inline.yaml")).output.shell_stress,
-            OutputSection::ShellStress::cauchy);
+  EXPECT_EQ(read_case_string(kShellCase, data("inline.yaml")).output.shell_stress, OutputSection::ShellStress::cauchy);
 }
 
 TEST(ReadCaseErrors, PrescribedSupportKeys) {
   EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: prescribed } ]\n"),
-            at("inline.yaml", 6, "shell.supports[0]: a prescribed support needs 'displacement' "
-                                 "[x, y, z] and/or 'rotation_axis' with 'rotation_angle'"));
+            at("inline.yaml", 6,
+               "shell.supports[0]: a prescribed support needs 'displacement' "
+               "[x, y, z] and/or 'rotation_axis' with 'rotation_angle'"));
   EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: clamped, displacement: [0, 0, 1] } ]\n"),
             at("inline.yaml", 6, "shell.supports[0].displacement: applies only to supports of type 'prescribed'"));
-  EXPECT_EQ(text_error(kShellCase +
-                       "  supports: [ { group: a, type: prescribed, rotation_axis: [1, 0, 0] } ]\n"),
+  EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: prescribed, rotation_axis: [1, 0, 0] } ]\n"),
             at("inline.yaml", 6, "shell.supports[0]: missing required key 'rotation_angle'"));
   EXPECT_EQ(text_error(kShellCase + "  supports: [ { group: a, type: prescribed, displacement: [0, 0, 1],\n"
                                     "                rotation_angle: { type: constant, value: 1 } } ]\n"),
@@ -613,8 +588,9 @@ TEST(ReadCaseErrors, ShellSupportsLoadsAndAnalysis) {
   EXPECT_EQ(text_error(kShellCase + "  loads: [ { type: line, group: a } ]\n"),
             at("inline.yaml", 6, "shell.loads[0]: missing required key 'force_per_length'"));
   EXPECT_EQ(text_error(kShellCase + "  analysis: { type: dynamic }\n"),
-            at("inline.yaml", 6, "shell.analysis: a dynamic analysis needs a 'time' section "
-                                 "(end, step)"));
+            at("inline.yaml", 6,
+               "shell.analysis: a dynamic analysis needs a 'time' section "
+               "(end, step)"));
   EXPECT_EQ(text_error(kShellCase + "  analysis: { type: static, steps: 0 }\n"),
             at("inline.yaml", 6, "shell.analysis.steps: must be >= 1, got 0"));
 }
@@ -632,16 +608,15 @@ const std::string kFluidCase =
     "  free_stream: { density: 1, pressure: 1, mach: 0 }\n";
 
 TEST(ReadCase, FluidAnalysisParses) {
-  const Case c = read_case_string(
-      kFluidCase +
-          "  analysis:\n"
-          "    type: transient\n"
-          "    cfl: 1.0\n"
-          "    q_dif: 0.5\n"
-          "    riemann: { position: 0.5, left: { density: 1, pressure: 1 },\n"
-          "               right: { density: 0.125, pressure: 0.1, velocity: [1, 0, 0] } }\n"
-          "time: { end: 0.2 }\n",
-      data("inline.yaml"));
+  const Case c = read_case_string(kFluidCase +
+                                      "  analysis:\n"
+                                      "    type: transient\n"
+                                      "    cfl: 1.0\n"
+                                      "    q_dif: 0.5\n"
+                                      "    riemann: { position: 0.5, left: { density: 1, pressure: 1 },\n"
+                                      "               right: { density: 0.125, pressure: 0.1, velocity: [1, 0, 0] } }\n"
+                                      "time: { end: 0.2 }\n",
+                                  data("inline.yaml"));
   ASSERT_TRUE(c.fluid && c.fluid->analysis && c.fluid->analysis->riemann);
   const auto& a = *c.fluid->analysis;
   EXPECT_EQ(a.type, FluidAnalysisType::transient);
@@ -654,20 +629,21 @@ TEST(ReadCase, FluidAnalysisParses) {
 
 TEST(ReadCaseErrors, FluidAnalysis) {
   EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: transient }\n"),
-            at("inline.yaml", 5, "fluid.analysis: a transient flow analysis needs a 'time' "
-                                 "section (end; the step follows from cfl)"));
+            at("inline.yaml", 5,
+               "fluid.analysis: a transient flow analysis needs a 'time' "
+               "section (end; the step follows from cfl)"));
   EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: steady, cfl: 1.5 }\n"),
             at("inline.yaml", 5, "fluid.analysis.cfl: must be in (0, 1], got 1.5"));
-  EXPECT_EQ(text_error(kFluidCase +
-                       "  analysis: { type: steady, consistent_mass_iterations: 3, cfl: 0.9 }\n"),
+  EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: steady, consistent_mass_iterations: 3, cfl: 0.9 }\n"),
             at("inline.yaml", 5, "fluid.analysis.cfl: must be in (0, 0.6], got 0.9"));
   EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: steady, residual_drop: 2 }\n"),
-            at("inline.yaml", 5, "fluid.analysis.residual_drop: must be in (0, 1), got 2; e.g. 1e-6 "
-                                 "stops once the density rate has dropped by six orders"));
+            at("inline.yaml", 5,
+               "fluid.analysis.residual_drop: must be in (0, 1), got 2; e.g. 1e-6 "
+               "stops once the density rate has dropped by six orders"));
   EXPECT_EQ(text_error(kFluidCase + "  analysis: { type: transient, residual_drop: 1e-3 }\ntime: { end: 1 }\n"),
             at("inline.yaml", 5, "fluid.analysis.residual_drop: applies only to analyses of type 'steady'"));
-  const Case steady = read_case_string(kFluidCase + "  analysis: { type: steady, residual_drop: 1e-5 }\n",
-                                       data("inline.yaml"));
+  const Case steady =
+      read_case_string(kFluidCase + "  analysis: { type: steady, residual_drop: 1e-5 }\n", data("inline.yaml"));
   EXPECT_EQ(steady.fluid->analysis->residual_drop, 1e-5);
   EXPECT_FALSE(read_case_string(kFluidCase + "  analysis: { type: steady }\n", data("inline.yaml"))
                    .fluid->analysis->residual_drop);
@@ -681,8 +657,10 @@ TEST(ReadCase, TimeFunctionsStepAndExpression) {
         "shell:\n"
         "  thickness: 0.1\n"
         "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n"
-        "  analysis: { type: dynamic, load_function: " + f + " }\n"
-        "time: { end: 1, step: 0.1 }\n",
+        "  analysis: { type: dynamic, load_function: " +
+            f +
+            " }\n"
+            "time: { end: 1, step: 0.1 }\n",
         data("inline.yaml"));
     return c.shell->analysis->load_function;
   };
@@ -706,8 +684,9 @@ TEST(ReadCaseErrors, ExpressionSyntaxNamesLineAndColumn) {
                        "  analysis: { type: dynamic, load_function: { type: expression, value: "
                        "\"sin(2*pi*t\" } }\n"
                        "time: { end: 1, step: 0.1 }\n"),
-            at("inline.yaml", 6, "shell.analysis.load_function.value: expression \"sin(2*pi*t\": "
-                                 "column 11: expected ')'"));
+            at("inline.yaml", 6,
+               "shell.analysis.load_function.value: expression \"sin(2*pi*t\": "
+               "column 11: expected ')'"));
 }
 
 TEST(ReadCase, FluidExpressionsMeshMotionAndBoundaryState) {
@@ -738,29 +717,33 @@ TEST(ReadCase, FluidExpressionsMeshMotionAndBoundaryState) {
 
 TEST(ReadCaseErrors, FluidExpressionsMeshMotionAndBoundaryState) {
   EXPECT_EQ(text_error(kFluidCase + "  mesh_motion: { displacement: [\"sin(q*t)\", 0, 0] }\n"),
-            at("inline.yaml", 5, "fluid.mesh_motion.displacement[0]: expression \"sin(q*t)\": "
-                                 "column 5: unknown name 'q'; expected x, y, z, t, pi, e or a "
-                                 "function sin cos tan exp log sqrt abs tanh step min max pow "
-                                 "atan2"));
+            at("inline.yaml", 5,
+               "fluid.mesh_motion.displacement[0]: expression \"sin(q*t)\": "
+               "column 5: unknown name 'q'; expected x, y, z, t, pi, e or a "
+               "function sin cos tan exp log sqrt abs tanh step min max pow "
+               "atan2"));
   EXPECT_EQ(text_error(kFluidCase + "  mesh_motion: { displacement: [0, 0] }\n"),
             at("inline.yaml", 5, "fluid.mesh_motion.displacement: expected 3 components, got 2"));
   EXPECT_EQ(text_error(kFluidCase + "  boundaries:\n"
                                     "    - { group: inflow, type: slip_wall, state: { density: 1, "
                                     "pressure: 1 } }\n"),
-            at("inline.yaml", 6, "fluid.boundaries[0].state: a 'slip_wall' boundary takes no "
-                                 "state; only supersonic_inflow and far_field do"));
+            at("inline.yaml", 6,
+               "fluid.boundaries[0].state: a 'slip_wall' boundary takes no "
+               "state; only supersonic_inflow and far_field do"));
   EXPECT_EQ(text_error(kFluidCase + "  mesh_motion: { displacement: [t, 0, 0] }\n"
                                     "  analysis: { type: steady }\n"),
-            at("inline.yaml", 5, "fluid.mesh_motion: a steady (local time stepping) analysis "
-                                 "needs a fixed mesh; use type: transient or remove 'mesh_motion'"));
+            at("inline.yaml", 5,
+               "fluid.mesh_motion: a steady (local time stepping) analysis "
+               "needs a fixed mesh; use type: transient or remove 'mesh_motion'"));
   EXPECT_EQ(text_error(kFluidCase + "  analysis:\n"
                                     "    type: transient\n"
                                     "    riemann: { position: 0.5, left: { density: 1, pressure: 1 },\n"
                                     "               right: { density: 1, pressure: 1 } }\n"
                                     "    initial: { density: 1, pressure: 1 }\n"
                                     "time: { end: 1 }\n"),
-            at("inline.yaml", 9, "fluid.analysis.initial: give either 'riemann' or 'initial', "
-                                 "not both"));
+            at("inline.yaml", 9,
+               "fluid.analysis.initial: give either 'riemann' or 'initial', "
+               "not both"));
 }
 
 TEST(ReadCase, FluidViscosityAndNoSlipWalls) {
@@ -792,15 +775,17 @@ TEST(ReadCaseErrors, FluidViscosityAndNoSlipWalls) {
       "fluid:\n";
   EXPECT_EQ(text_error(head + "  gas: { viscosity: { law: sutherlnd } }\n"
                               "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"),
-            at("inline.yaml", 4, "fluid.gas.viscosity.law: unknown value 'sutherlnd'; did you "
-                                 "mean 'sutherland'? (one of: none, constant, sutherland)"));
+            at("inline.yaml", 4,
+               "fluid.gas.viscosity.law: unknown value 'sutherlnd'; did you "
+               "mean 'sutherland'? (one of: none, constant, sutherland)"));
   EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
                               "  boundaries: [ { group: inflow, type: no_slip_wall, temperature: -1 } ]\n"),
             at("inline.yaml", 5, "fluid.boundaries[0].temperature: must be > 0 K, got -1"));
   EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
                               "  boundaries: [ { group: inflow, type: slip_wall, temperature: 300 } ]\n"),
-            at("inline.yaml", 5, "fluid.boundaries[0].temperature: only no_slip_wall boundaries take "
-                                 "a wall temperature"));
+            at("inline.yaml", 5,
+               "fluid.boundaries[0].temperature: only no_slip_wall boundaries take "
+               "a wall temperature"));
 }
 
 TEST(ReadCase, ShellPathControlAndTimeScheme) {
@@ -810,18 +795,18 @@ TEST(ReadCase, ShellPathControlAndTimeScheme) {
       "shell:\n"
       "  thickness: 0.1\n"
       "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 1 }\n";
-  const Case d = read_case_string(
-      head + "  analysis: { type: static, steps: 5, control: displacement,\n"
-             "              controlled: { group: panel, component: y }, final_value: -0.2 }\n",
-      data("inline.yaml"));
+  const Case d = read_case_string(head +
+                                      "  analysis: { type: static, steps: 5, control: displacement,\n"
+                                      "              controlled: { group: panel, component: y }, final_value: -0.2 }\n",
+                                  data("inline.yaml"));
   EXPECT_EQ(d.shell->analysis->control, PathControl::displacement);
   EXPECT_EQ(d.shell->analysis->controlled_group, "panel");
   EXPECT_EQ(d.shell->analysis->controlled_component, 1);
   EXPECT_EQ(d.shell->analysis->final_displacement, -0.2);
-  const Case a = read_case_string(
-      head + "  analysis: { type: static, control: arc_length, initial_load_increment: 0.05,\n"
-             "              final_load_factor: 3 }\n",
-      data("inline.yaml"));
+  const Case a = read_case_string(head +
+                                      "  analysis: { type: static, control: arc_length, initial_load_increment: 0.05,\n"
+                                      "              final_load_factor: 3 }\n",
+                                  data("inline.yaml"));
   EXPECT_EQ(a.shell->analysis->control, PathControl::arc_length);
   EXPECT_EQ(a.shell->analysis->initial_load_increment, 0.05);
   EXPECT_EQ(a.shell->analysis->final_load_factor, 3.0);
@@ -831,17 +816,20 @@ TEST(ReadCase, ShellPathControlAndTimeScheme) {
   EXPECT_EQ(m.shell->analysis->scheme, TimeScheme::midpoint);
   EXPECT_TRUE(m.shell->analysis->modified_newton);
   EXPECT_EQ(text_error(head + "  analysis: { type: static, control: arc_length, newton: modified }\n"),
-            at("inline.yaml", 6, "shell.analysis.newton: 'modified' applies to load control and dynamics; "
-                                 "displacement control and arc length use full Newton"));
+            at("inline.yaml", 6,
+               "shell.analysis.newton: 'modified' applies to load control and dynamics; "
+               "displacement control and arc length use full Newton"));
   EXPECT_EQ(text_error(head + "  analysis: { type: static, control: displacement,\n"
                               "              controlled: { group: panel, node: 3, component: y },\n"
                               "              final_value: 1 }\n"),
-            at("inline.yaml", 7, "shell.analysis.controlled: expected exactly one of 'group' "
-                                 "(its mean displacement) and 'node'"));
+            at("inline.yaml", 7,
+               "shell.analysis.controlled: expected exactly one of 'group' "
+               "(its mean displacement) and 'node'"));
   EXPECT_EQ(text_error(head + "  analysis: { type: dynamic, scheme: midpiont }\n"
                               "time: { end: 1, step: 0.1 }\n"),
-            at("inline.yaml", 6, "shell.analysis.scheme: unknown value 'midpiont'; did you mean "
-                                 "'midpoint'? (one of: newmark, midpoint)"));
+            at("inline.yaml", 6,
+               "shell.analysis.scheme: unknown value 'midpiont'; did you mean "
+               "'midpoint'? (one of: newmark, midpoint)"));
 }
 
 }  // namespace
@@ -866,8 +854,7 @@ TEST(ReadCase, ShellModalAnalysis) {
   EXPECT_EQ(d.shell->analysis->modal_max_iterations, 300);
   EXPECT_FALSE(d.time);
   const Case m = read_case_string(
-      head + "  analysis: { type: modal, modes: 200, tolerance: 1e-6, max_iterations: 50 }\n",
-      data("inline.yaml"));
+      head + "  analysis: { type: modal, modes: 200, tolerance: 1e-6, max_iterations: 50 }\n", data("inline.yaml"));
   EXPECT_EQ(m.shell->analysis->modes, 200);
   EXPECT_EQ(m.shell->analysis->modal_tolerance, 1e-6);
   EXPECT_EQ(m.shell->analysis->modal_max_iterations, 50);
@@ -879,14 +866,17 @@ TEST(ReadCase, ShellModalAnalysis) {
   EXPECT_EQ(text_error(head + "  analysis: { type: modal, tolerance: 0 }\n"),
             at("inline.yaml", 6, "shell.analysis.tolerance: must be in (0, 1), got 0"));
   EXPECT_EQ(text_error(head + "  analysis:\n    type: modal\n    scheme: midpoint\n"),
-            at("inline.yaml", 8, "shell.analysis.scheme: applies only to analyses of type 'dynamic'; "
-                                 "a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
+            at("inline.yaml", 8,
+               "shell.analysis.scheme: applies only to analyses of type 'dynamic'; "
+               "a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
   EXPECT_EQ(text_error(head + "  analysis: { type: modal, steps: 3 }\n"),
-            at("inline.yaml", 6, "shell.analysis.steps: applies only to analyses of type 'static'; "
-                                 "a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
+            at("inline.yaml", 6,
+               "shell.analysis.steps: applies only to analyses of type 'static'; "
+               "a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
   EXPECT_EQ(text_error(head + "  analysis: { type: modal, newton: full }\n"),
-            at("inline.yaml", 6, "shell.analysis.newton: applies only to analyses of type 'static' or "
-                                 "'dynamic'; a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
+            at("inline.yaml", 6,
+               "shell.analysis.newton: applies only to analyses of type 'static' or "
+               "'dynamic'; a modal analysis takes 'modes', 'tolerance' and 'max_iterations'"));
   EXPECT_EQ(text_error(head + "  analysis: { type: modal, mods: 3 }\n"),
             at("inline.yaml", 6, "shell.analysis.mods: unknown key; did you mean 'modes'?"));
   EXPECT_EQ(text_error(head + "  analysis: { type: static, modes: 3 }\n"),
@@ -897,8 +887,9 @@ TEST(ReadCase, ShellModalAnalysis) {
                        "  thickness: 0.1\n"
                        "  material: { young_modulus: 1e6, poisson_ratio: 0, density: 0 }\n"
                        "  analysis: { type: modal }\n"),
-            at("inline.yaml", 6, "shell.analysis.type: a modal analysis needs the shell's mass; set "
-                                 "shell.material.density > 0"));
+            at("inline.yaml", 6,
+               "shell.analysis.type: a modal analysis needs the shell's mass; set "
+               "shell.material.density > 0"));
 }
 
 }  // namespace

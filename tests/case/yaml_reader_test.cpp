@@ -90,23 +90,15 @@ TEST(YamlNode, OptionalKeysTakeTheirDefault) {
 
 TEST(YamlNode, WrongTypesNameTheKeyAndWhatWasExpected) {
   const YamlNode root = load("a: abc\nb: 1.5\nc: [1, 2]\nd: {x: 1}\ne: maybe\nf:\ng: 300\n");
-  EXPECT_EQ(error_of([&] { root.required<double>("a"); }),
-            "cases/t.yaml:1: a: expected a number, got 'abc'");
-  EXPECT_EQ(error_of([&] { root.required<int>("b"); }),
-            "cases/t.yaml:2: b: expected an integer, got '1.5'");
-  EXPECT_EQ(error_of([&] { root.required<double>("c"); }),
-            "cases/t.yaml:3: c: expected a number, got a list");
-  EXPECT_EQ(error_of([&] { root.required<std::string>("d"); }),
-            "cases/t.yaml:4: d: expected a string, got a map");
-  EXPECT_EQ(error_of([&] { root.required<bool>("e"); }),
-            "cases/t.yaml:5: e: expected true or false, got 'maybe'");
-  EXPECT_EQ(error_of([&] { root.required<double>("f"); }),
-            "cases/t.yaml:6: f: expected a number, got an empty value");
-  EXPECT_EQ(error_of([&] { root.required<std::int8_t>("g"); }),
-            "cases/t.yaml:7: g: must be in [-128, 127], got '300'");
+  EXPECT_EQ(error_of([&] { root.required<double>("a"); }), "cases/t.yaml:1: a: expected a number, got 'abc'");
+  EXPECT_EQ(error_of([&] { root.required<int>("b"); }), "cases/t.yaml:2: b: expected an integer, got '1.5'");
+  EXPECT_EQ(error_of([&] { root.required<double>("c"); }), "cases/t.yaml:3: c: expected a number, got a list");
+  EXPECT_EQ(error_of([&] { root.required<std::string>("d"); }), "cases/t.yaml:4: d: expected a string, got a map");
+  EXPECT_EQ(error_of([&] { root.required<bool>("e"); }), "cases/t.yaml:5: e: expected true or false, got 'maybe'");
+  EXPECT_EQ(error_of([&] { root.required<double>("f"); }), "cases/t.yaml:6: f: expected a number, got an empty value");
+  EXPECT_EQ(error_of([&] { root.required<std::int8_t>("g"); }), "cases/t.yaml:7: g: must be in [-128, 127], got '300'");
   EXPECT_EQ(error_of([&] { root.list("d"); }), "cases/t.yaml:4: d: expected a list, got a map");
-  EXPECT_EQ(error_of([&] { root.child("c"); }),
-            "cases/t.yaml:3: c: expected a map of keys, got a list");
+  EXPECT_EQ(error_of([&] { root.child("c"); }), "cases/t.yaml:3: c: expected a map of keys, got a list");
 }
 
 TEST(YamlNode, RangeErrorsQuoteTheValueAsWritten) {
@@ -129,8 +121,7 @@ TEST(YamlNode, MissingRequiredKeyIsReportedAtTheMap) {
               space.fail_missing({"geo", "msh"});
             }),
             "cases/t.yaml:3: meshes.space: missing required key 'geo' or 'msh'");
-  EXPECT_EQ(error_of([&] { root.required<std::string>("title"); }),
-            "cases/t.yaml:1: missing required key 'title'");
+  EXPECT_EQ(error_of([&] { root.required<std::string>("title"); }), "cases/t.yaml:1: missing required key 'title'");
 }
 
 TEST(YamlNode, MissingRequiredKeyNextToAMisspellingReportsTheMisspelling) {
@@ -151,8 +142,7 @@ TEST(YamlNode, FinishReportsTheFirstUnreadKeyWithASuggestion) {
   fluid.required<std::string>("geo");
   fluid.optional<int>("order", 1);
   fluid.optional<double>("size_factor", 1.0);
-  EXPECT_EQ(error_of([&] { fluid.finish(); }),
-            "cases/t.yaml:4: meshes.fluid.ordr: unknown key; did you mean 'order'?");
+  EXPECT_EQ(error_of([&] { fluid.finish(); }), "cases/t.yaml:4: meshes.fluid.ordr: unknown key; did you mean 'order'?");
   // From the root, every unread key below is found, in document order.
   root.child("meshes").has("space");
   const auto unread = root.unread_keys();
@@ -192,8 +182,7 @@ TEST(YamlNode, Vec3NeedsExactlyThreeNumbers) {
   EXPECT_EQ(error_of([&] { root.vec3("b"); }),
             "cases/t.yaml:2: b: expected a list of 3 numbers [x, y, z], got a list of 2 items");
   EXPECT_EQ(error_of([&] { root.vec3("c"); }), "cases/t.yaml:3: c[1]: expected a number, got 'x'");
-  EXPECT_EQ(error_of([&] { root.vec3("d"); }),
-            "cases/t.yaml:4: d: expected a list of 3 numbers [x, y, z], got '4'");
+  EXPECT_EQ(error_of([&] { root.vec3("d"); }), "cases/t.yaml:4: d: expected a list of 3 numbers [x, y, z], got '4'");
 }
 
 TEST(YamlNode, DuplicateKeysAreErrors) {
@@ -215,8 +204,8 @@ TEST(YamlNode, SyntaxErrorsAndNonMapDocumentsAreReportedWithTheirLine) {
 
 TEST(YamlNode, MalformedStreamsFailFastWithOneLine) {
   // yaml-cpp 0.7's LoadAll loops forever (memory growing) on some of these, e.g. a lone ','.
-  const std::vector<std::string> inputs = {",", "]", "{", "- [", ": :", "---", "}", "[",
-                                           ",\n,", "a: 1\n,", "- ]", "&a", "*a", "? "};
+  const std::vector<std::string> inputs = {",", "]",    "{",       "- [", ": :", "---", "}",
+                                           "[", ",\n,", "a: 1\n,", "- ]", "&a",  "*a",  "? "};
   for (const std::string& text : inputs) {
     auto done = std::make_shared<std::promise<std::string>>();
     auto result = done->get_future();
@@ -239,8 +228,9 @@ TEST(YamlNode, MalformedStreamsFailFastWithOneLine) {
     EXPECT_EQ(msg.rfind("cases/t.yaml:", 0), 0u) << "'" << text << "': " << msg;
     EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
   }
-  EXPECT_EQ(error_of([] { load(","); }), "cases/t.yaml:1: YAML syntax error: unexpected ','; check the brackets, "
-                                         "quotes, ':' and indentation of this line and the one before it");
+  EXPECT_EQ(error_of([] { load(","); }),
+            "cases/t.yaml:1: YAML syntax error: unexpected ','; check the brackets, "
+            "quotes, ':' and indentation of this line and the one before it");
   // A control byte is shown as \xNN (not sent to the terminal); a tab in the indentation is named.
   EXPECT_EQ(error_of([] { load("\x1b"); }).find('\x1b'), std::string::npos);
   EXPECT_EQ(error_of([] { load("a:\n\tb: 1\n"); }),
@@ -254,10 +244,8 @@ TEST(YamlNode, MalformedStreamsFailFastWithOneLine) {
 
 TEST(YamlNode, FilesAreResolvedRelativeToTheCaseFile) {
   const std::string dir = SHELLFLOW_TEST_DATA_DIR;
-  const YamlNode root =
-      YamlNode::load_string("a: fluid_slab.geo\nb: nothere.geo\nc: .\n", dir + "/x.yaml");
-  EXPECT_EQ(root.input_file("a"),
-            std::filesystem::path(dir + "/fluid_slab.geo").lexically_normal());
+  const YamlNode root = YamlNode::load_string("a: fluid_slab.geo\nb: nothere.geo\nc: .\n", dir + "/x.yaml");
+  EXPECT_EQ(root.input_file("a"), std::filesystem::path(dir + "/fluid_slab.geo").lexically_normal());
   EXPECT_EQ(error_of([&] { root.input_file("b"); }),
             dir + "/x.yaml:2: b: file not found: 'nothere.geo' (looked for '" + dir +
                 "/nothere.geo'); paths are relative to the case file's directory");

@@ -24,8 +24,7 @@ namespace {
 constexpr std::array<std::string_view, 1> kTime = {"t"};
 
 // The message of the InputError that parsing `text` throws, or "" if it parses.
-std::string parse_error(const std::string& text,
-                        std::span<const std::string_view> variables = kTime) {
+std::string parse_error(const std::string& text, std::span<const std::string_view> variables = kTime) {
   try {
     Expression::parse(text, variables);
   } catch (const InputError& e) {
@@ -172,8 +171,7 @@ TEST(Expression, ValuesAndDerivativesMatchHandComputedOnes) {
   for (const Case& c : cases) {
     const Expression f = Expression::parse(c.text);
     const double scale = std::max(1.0, std::abs(c.derivative));
-    EXPECT_NEAR(f.value(c.t), c.value, 1e-14 * std::max(1.0, std::abs(c.value)))
-        << c.text << " at " << c.t;
+    EXPECT_NEAR(f.value(c.t), c.value, 1e-14 * std::max(1.0, std::abs(c.value))) << c.text << " at " << c.t;
     EXPECT_NEAR(f.derivative(c.t), c.derivative, 1e-14 * scale) << c.text << " at " << c.t;
     // One evaluation of both gives the same numbers as the two separate ones.
     const auto both = f.evaluate(c.t);
@@ -211,8 +209,7 @@ TEST(Expression, DerivativesMatchCentralDifferences) {
     for (double t : {0.3, 0.7, 1.3, 2.1}) {
       const double exact = f.derivative(t);
       ASSERT_TRUE(std::isfinite(exact)) << text << " at " << t;
-      EXPECT_NEAR(exact, central_difference(f, t), 1e-6 * std::max(1.0, std::abs(exact)))
-          << text << " at " << t;
+      EXPECT_NEAR(exact, central_difference(f, t), 1e-6 * std::max(1.0, std::abs(exact))) << text << " at " << t;
       ++checked;
     }
   }
@@ -242,26 +239,26 @@ TEST(Expression, PrecedenceAndAssociativityFollowMathematics) {
     double t, value;
   };
   const Case cases[] = {
-      {"-t^2", 3.0, -9.0},          // ^ binds tighter than the sign
-      {"-2^2", 0.0, -4.0},          //
-      {"(-2)^2", 0.0, 4.0},         //
-      {"2^3^2", 0.0, 512.0},        // right-associative: 2^(3^2)
-      {"(2^3)^2", 0.0, 64.0},       //
-      {"2^-1", 0.0, 0.5},           // a signed exponent
-      {"2^-t^2", 1.0, 0.5},         // 2^(-(t^2))
-      {"1 - 2 - 3", 0.0, -4.0},     // left-associative
-      {"8 / 4 / 2", 0.0, 1.0},      //
-      {"2 + 3 * 4", 0.0, 14.0},     //
-      {"(2 + 3) * 4", 0.0, 20.0},   //
-      {"2 * -3", 0.0, -6.0},        //
-      {"--t", 5.0, 5.0},            //
-      {"+t", 5.0, 5.0},             //
-      {"t - -t", 5.0, 10.0},        //
-      {"2*t^2/4", 2.0, 2.0},        //
-      {"-t*-t", 3.0, 9.0},          //
-      {"1e-3", 0.0, 1e-3},          // numbers
-      {"2E+2", 0.0, 200.0},         //
-      {".5 + 1.", 0.0, 1.5},        //
+      {"-t^2", 3.0, -9.0},         // ^ binds tighter than the sign
+      {"-2^2", 0.0, -4.0},         //
+      {"(-2)^2", 0.0, 4.0},        //
+      {"2^3^2", 0.0, 512.0},       // right-associative: 2^(3^2)
+      {"(2^3)^2", 0.0, 64.0},      //
+      {"2^-1", 0.0, 0.5},          // a signed exponent
+      {"2^-t^2", 1.0, 0.5},        // 2^(-(t^2))
+      {"1 - 2 - 3", 0.0, -4.0},    // left-associative
+      {"8 / 4 / 2", 0.0, 1.0},     //
+      {"2 + 3 * 4", 0.0, 14.0},    //
+      {"(2 + 3) * 4", 0.0, 20.0},  //
+      {"2 * -3", 0.0, -6.0},       //
+      {"--t", 5.0, 5.0},           //
+      {"+t", 5.0, 5.0},            //
+      {"t - -t", 5.0, 10.0},       //
+      {"2*t^2/4", 2.0, 2.0},       //
+      {"-t*-t", 3.0, 9.0},         //
+      {"1e-3", 0.0, 1e-3},         // numbers
+      {"2E+2", 0.0, 200.0},        //
+      {".5 + 1.", 0.0, 1.5},       //
       {"2*e", 0.0, 2.0 * std::numbers::e},
       {" \t( t\n+1 ) ", 1.0, 2.0},  // blanks anywhere between tokens
       {"max(min(t, 2), -1) ^ 2", 3.0, 4.0},
@@ -283,10 +280,10 @@ TEST(Expression, ConstantPartsAreFoldedOnce) {
 }
 
 TEST(Expression, ConstantIntegerPowersAreMultipliedOutAndAgreeWithPow) {
-  EXPECT_EQ(Expression::parse("t^2").size(), 2u);     // t, ^2
-  EXPECT_EQ(Expression::parse("t^2.5").size(), 3u);   // t, 2.5, pow
-  EXPECT_EQ(Expression::parse("t^65").size(), 3u);    // beyond the multiplied-out range
-  EXPECT_EQ(Expression::parse("t^(1+1)").size(), 2u); // the exponent is folded first
+  EXPECT_EQ(Expression::parse("t^2").size(), 2u);      // t, ^2
+  EXPECT_EQ(Expression::parse("t^2.5").size(), 3u);    // t, 2.5, pow
+  EXPECT_EQ(Expression::parse("t^65").size(), 3u);     // beyond the multiplied-out range
+  EXPECT_EQ(Expression::parse("t^(1+1)").size(), 2u);  // the exponent is folded first
   struct Case {
     const char* text;
     double t, value, derivative;
@@ -297,8 +294,7 @@ TEST(Expression, ConstantIntegerPowersAreMultipliedOutAndAgreeWithPow) {
       {"(t - 1)^3", 3.0, 8.0, 12.0},
       {"t^0", 0.0, 1.0, 0.0},
       {"t^1", 5.0, 5.0, 1.0},
-      {"t^-1", 0.0, std::numeric_limits<double>::infinity(),
-       -std::numeric_limits<double>::infinity()},
+      {"t^-1", 0.0, std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()},
       {"pow(t, 3)", -2.0, -8.0, 12.0},
   };
   for (const Case& c : cases) {
@@ -327,14 +323,12 @@ TEST(Expression, DeepNestingIsEvaluatedAndTooDeepNestingRejected) {
   EXPECT_EQ(f.derivative(0.5), 1.0);
 
   const std::string deep = std::string(300, '(') + "t" + std::string(300, ')');
-  EXPECT_EQ(parse_error(deep),
-            "expression \"" + deep + "\": column 201: nested deeper than 200 levels");
+  EXPECT_EQ(parse_error(deep), "expression \"" + deep + "\": column 201: nested deeper than 200 levels");
 }
 
 TEST(Expression, ErrorsNameTheColumnAndWhatWasExpected) {
   const std::string operand = "expected a number, t, pi, e, a function or '('";
-  const std::string operator_or_end =
-      "expected an operator (+ - * / ^) or the end of the expression";
+  const std::string operator_or_end = "expected an operator (+ - * / ^) or the end of the expression";
   const std::string product = " (a product needs an explicit '*')";
   struct Case {
     std::string text, message;
@@ -413,8 +407,8 @@ TEST(Expression, SeveralVariablesTakeTheirValuesInOrderWithExactPartialDerivativ
             "tan exp log sqrt abs tanh step min max pow atan2");
 
   // Programming errors: a reserved or repeated variable name, too few values.
-  for (std::array<std::string_view, 2> bad : {std::array<std::string_view, 2>{"x", "pi"},
-                                              {"x", "sin"}, {"x", "x"}, {"x", "2y"}, {"x", ""}}) {
+  for (std::array<std::string_view, 2> bad :
+       {std::array<std::string_view, 2>{"x", "pi"}, {"x", "sin"}, {"x", "x"}, {"x", "2y"}, {"x", ""}}) {
     EXPECT_THROW(Expression::parse("x", bad), std::invalid_argument) << bad[1];
   }
   EXPECT_THROW(f.value(0.5), std::invalid_argument);
@@ -465,18 +459,21 @@ TEST(TimeFunction, NamedFunctionsThrowWithTheKeyTheTimeAndTheCause) {
   EXPECT_EQ(f.where(), key);
   EXPECT_DOUBLE_EQ(f.value(0.0), 0.02 * std::sqrt(0.1));  // finite: unchanged
   EXPECT_EQ(non_finite_message(f, 0.1003),
-            key + ": is NaN at t = 0.1003 s (sqrt of a negative number?); the expression must stay finite over "
-                  "the run");
+            key +
+                ": is NaN at t = 0.1003 s (sqrt of a negative number?); the expression must stay finite over "
+                "the run");
   // At t = 0.1 the value is 0 but the rate is -inf.
   EXPECT_EQ(f.value(0.1), 0.0);
   EXPECT_EQ(non_finite_message(f, 0.1, true),
-            key + ": its rate d/dt is -inf at t = 0.1 s (sqrt of 0, whose slope is infinite?); the expression "
-                  "must stay finite over the run");
+            key +
+                ": its rate d/dt is -inf at t = 0.1 s (sqrt of 0, whose slope is infinite?); the expression "
+                "must stay finite over the run");
   // The cause is found in constant parts too (folded when parsed), and for every operation.
   const auto cause = [&](const char* text, double t) {
     return non_finite_message(TimeFunction::expression(text).named("k"), t);
   };
-  EXPECT_EQ(cause("sqrt(-1)", 0.0), "k: is NaN at t = 0 s (sqrt of a negative number?); the expression must stay finite over the run");
+  EXPECT_EQ(cause("sqrt(-1)", 0.0),
+            "k: is NaN at t = 0 s (sqrt of a negative number?); the expression must stay finite over the run");
   EXPECT_NE(cause("1/(t - 1)", 1.0).find("is inf at t = 1 s (division by zero?)"), std::string::npos);
   EXPECT_NE(cause("log(t)", 0.0).find("is -inf at t = 0 s (log of 0?)"), std::string::npos);
   EXPECT_NE(cause("log(t)", -1.0).find("(log of a negative number?)"), std::string::npos);

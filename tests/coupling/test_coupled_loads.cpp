@@ -41,11 +41,12 @@ struct GasAtRest {
     so.interface_groups = {"panel"};
     so.fixed_groups = {"inflow", "outflow", "far_field", "wall"};
     so.sliding_groups = {"symmetry"};
-    auto mover = std::make_unique<motion::SpaceMeshMover>(
-        fluid, coupling_test::space(), so, *motion, model.mesh().nodes,
-        motion::lumped_node_areas(model.mesh().nodes, model.mesh().cells));
+    auto mover =
+        std::make_unique<motion::SpaceMeshMover>(fluid, coupling_test::space(), so, *motion, model.mesh().nodes,
+                                                 motion::lumped_node_areas(model.mesh().nodes, model.mesh().cells));
     std::vector<fluid::BoundaryCondition> bcs;
-    for (const char* g : {"inflow", "outflow", "far_field", "wall", "panel"}) bcs.emplace_back(g, fluid::BoundaryKind::slip_wall);
+    for (const char* g : {"inflow", "outflow", "far_field", "wall", "panel"})
+      bcs.emplace_back(g, fluid::BoundaryKind::slip_wall);
     bcs.emplace_back("symmetry", fluid::BoundaryKind::symmetry);
     fluid::FluidOptions fo;
     auto gas = std::make_unique<fluid::FluidModel>(fluid, fo, bcs);
@@ -116,7 +117,8 @@ TEST(CoupledLoads, GasAtRestStaysExactlyAtRestWhileTheShellMovesTheMeshTangentia
   s.motion->set_window(0.0, dt, zero, zero, u1, zero);
   s.flow->advance(*s.motion, dt);
   double speed = 0.0;
-  for (std::size_t a = 0; a < s.fluid.nodes.size(); ++a) speed = std::max(speed, s.flow->flow()->mesh_velocity()[a].norm());
+  for (std::size_t a = 0; a < s.fluid.nodes.size(); ++a)
+    speed = std::max(speed, s.flow->flow()->mesh_velocity()[a].norm());
   EXPECT_GT(speed, 0.1);  // the mesh moves (the wall by 2e-4 m in 1e-4 s, from rest to rest)
   for (const Index a : s.flow->wall_map().nodes)
     EXPECT_LT((s.flow->positions()[std::size_t(a)] - s.fluid.nodes[std::size_t(a)] - Vec3(2e-4, 0, 0)).norm(), 1e-15);
@@ -126,8 +128,10 @@ TEST(CoupledLoads, GasAtRestStaysExactlyAtRestWhileTheShellMovesTheMeshTangentia
   double change = 0.0;
   for (int v = 0; v < fluid::num_variables; ++v)
     for (std::size_t a = 0; a < U.var[std::size_t(v)].size(); ++a)
-      change = std::max(change, std::abs(U.var[std::size_t(v)][a] - U0.var[std::size_t(v)][a]) /
-                                    (v == 4 ? U0.var[4][a] : v == 0 ? 0.339 : 0.339 * 300.0));
+      change =
+          std::max(change, std::abs(U.var[std::size_t(v)][a] - U0.var[std::size_t(v)][a]) / (v == 4   ? U0.var[4][a]
+                                                                                             : v == 0 ? 0.339
+                                                                                                      : 0.339 * 300.0));
   EXPECT_LT(change, 1e-12);
 }
 

@@ -85,7 +85,8 @@ TEST(InterfaceMaps, ProjectionOnACurvedShellReproducesExactPoints) {
       points.push_back(shell::mid_surface_position(model, {e, xi}, zero));
   // Displacement = the initial position: the interpolated displacement is the point itself.
   Eigen::VectorXd u = zero;
-  for (Index j = 0; j < model.num_nodes(); ++j) u.segment<3>(shell::dofs_per_node * j) = model.mesh().nodes[std::size_t(j)];
+  for (Index j = 0; j < model.num_nodes(); ++j)
+    u.segment<3>(shell::dofs_per_node * j) = model.mesh().nodes[std::size_t(j)];
   ShellStepMotion motion(model, 1e-6);
   const int handle = motion.register_points(points);
   motion.set_state(0.0, u, zero);

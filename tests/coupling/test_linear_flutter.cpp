@@ -7,14 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
-#include "shellflow/coupling/linear_flutter.h"
 #include "../shell/structured_shell_mesh.h"
+#include "shellflow/coupling/linear_flutter.h"
 
 namespace shellflow::coupling {
 namespace {
@@ -27,9 +26,8 @@ enum class Edges { clamped, pinned };
 /// A plane-strain strip: nx cubic elements along x (the flow), one across, symmetry planes
 /// y = 0 and y = width, the edges x = 0 and x = a clamped or pinned (soft simple support).
 shell::ShellModel strip(int nx, Edges edges) {
-  mesh::Mesh m = shell::testing::structured_shell_mesh(a, width, nx, 1, [](double s, double t) {
-    return Vec3(s, t, 0.0);
-  });
+  mesh::Mesh m =
+      shell::testing::structured_shell_mesh(a, width, nx, 1, [](double s, double t) { return Vec3(s, t, 0.0); });
   shell::ShellSection section;
   section.thickness = h;
   section.material = {E, nu, rho_m};
@@ -73,7 +71,7 @@ std::pair<double, double> beam_reference(int n, Edges edges) {
     for (int k = -2; k <= 2; ++k) {
       const int j = i + k;
       if (j >= 0 && j < m) D4(i, j) += c4[k + 2] / std::pow(dx, 4);
-      if (j == -2) D4(i, 0) += ghost * c4[k + 2] / std::pow(dx, 4);        // node -1 mirrors node 1
+      if (j == -2) D4(i, 0) += ghost * c4[k + 2] / std::pow(dx, 4);         // node -1 mirrors node 1
       if (j == m + 1) D4(i, m - 1) += ghost * c4[k + 2] / std::pow(dx, 4);  // node n+1 mirrors n-1
     }
   for (int i = 0; i < m; ++i) {
@@ -109,10 +107,10 @@ TEST(LinearFlutter, DowellsClampedAndPinnedPanelsWithoutAerodynamicDamping) {
     return std::pair{fine.first + (fine.first - coarse.first) / 3, fine.second + (fine.second - coarse.second) / 3};
   };
   const auto clamped_ref = richardson(Edges::clamped), pinned_ref = richardson(Edges::pinned);
-  std::printf("finite-difference beam (n = 150, 300, extrapolated): clamped lambda_cr %.3f, omega_bar %.4f = %.3f "
-              "Hz; pinned lambda_cr %.3f, omega_bar %.4f\n",
-              clamped_ref.first, clamped_ref.second, frequency_hz(clamped_ref.second), pinned_ref.first,
-              pinned_ref.second);
+  std::printf(
+      "finite-difference beam (n = 150, 300, extrapolated): clamped lambda_cr %.3f, omega_bar %.4f = %.3f "
+      "Hz; pinned lambda_cr %.3f, omega_bar %.4f\n",
+      clamped_ref.first, clamped_ref.second, frequency_hz(clamped_ref.second), pinned_ref.first, pinned_ref.second);
   EXPECT_NEAR(clamped_ref.first, 636.6, 0.002 * 636.6);
   EXPECT_NEAR(pinned_ref.first, 343.3, 0.002 * 343.3);
 
@@ -146,9 +144,10 @@ TEST(LinearFlutter, TwoModePinnedPanelMeetsTheClosedForm) {
   ASSERT_TRUE(r.critical);
   const auto& f = two.in_vacuo_frequencies();
   const double f_closed = std::sqrt(0.5 * (f[0] * f[0] + f[1] * f[1]));
-  std::printf("two modes: lambda_cr %.4f (closed form %.4f), f_cr %.4f Hz (closed form %.4f Hz), modes %.4f, "
-              "%.4f Hz\n",
-              r.critical->lambda, 45 * std::pow(pi, 4) / 16, r.critical->frequency_hz, f_closed, f[0], f[1]);
+  std::printf(
+      "two modes: lambda_cr %.4f (closed form %.4f), f_cr %.4f Hz (closed form %.4f Hz), modes %.4f, "
+      "%.4f Hz\n",
+      r.critical->lambda, 45 * std::pow(pi, 4) / 16, r.critical->frequency_hz, f_closed, f[0], f[1]);
   EXPECT_NEAR(r.critical->lambda, 45 * std::pow(pi, 4) / 16, 0.005 * 273.96);
   EXPECT_NEAR(r.critical->frequency_hz, f_closed, 1e-4 * f_closed);
   // The beam's 1st and 2nd frequencies (plane strain): f_n = (n pi / a)^2 sqrt(D / (rho h)) / (2 pi).
@@ -168,11 +167,12 @@ TEST(LinearFlutter, ModalBasisAgreesWithTheFullSystem) {
     const auto [qA, qD] = setting(damping).coefficients(FlutterParameter::lambda, 800.0);
     const auto rm = modal.eigenvalues(qA, qD), rf = full.eigenvalues(qA, qD);
     ASSERT_GE(rf.size(), rm.size());
-    const auto least = *std::max_element(rm.begin(), rm.end(),
-                                         [](const auto& x, const auto& y) { return x.real() < y.real(); });
-    std::printf("lambda 800 (damping %d): least stable modal root %.6f%+.6fi; %zu dofs with mass, highest full "
-                "root %.3g%+.3gi\n",
-                damping, least.real(), least.imag(), std::size_t(full.size()), rf.back().real(), rf.back().imag());
+    const auto least =
+        *std::max_element(rm.begin(), rm.end(), [](const auto& x, const auto& y) { return x.real() < y.real(); });
+    std::printf(
+        "lambda 800 (damping %d): least stable modal root %.6f%+.6fi; %zu dofs with mass, highest full "
+        "root %.3g%+.3gi\n",
+        damping, least.real(), least.imag(), std::size_t(full.size()), rf.back().real(), rf.back().imag());
     EXPECT_GT(least.real(), 0.0);
     // The lowest 8 modal roots each have a full-system root next to them (truncation: 24
     // modes of the coarse strip shift the frequencies by ~1e-4).
@@ -199,10 +199,11 @@ TEST(LinearFlutter, DampingRaisesTheBoundaryAndMachAndLambdaSweepsAgree) {
   const auto damped = sweep_flutter(s, setting(true), FlutterParameter::lambda, 0.0, 1000.0, 21);
   const auto mach = sweep_flutter(s, setting(true), FlutterParameter::mach, 1.5, 4.0, 26);
   ASSERT_TRUE(undamped.critical && damped.critical && mach.critical);
-  std::printf("clamped, 20 elements: lambda_cr %.3f (no damping), %.3f (damping at Mach 2.3, mu/M %.4g), Mach "
-              "sweep M_cr %.5f -> lambda %.3f\n",
-              undamped.critical->lambda, damped.critical->lambda, setting(true).mass_ratio_over_mach(rho_m, h),
-              mach.critical->mach, mach.critical->lambda);
+  std::printf(
+      "clamped, 20 elements: lambda_cr %.3f (no damping), %.3f (damping at Mach 2.3, mu/M %.4g), Mach "
+      "sweep M_cr %.5f -> lambda %.3f\n",
+      undamped.critical->lambda, damped.critical->lambda, setting(true).mass_ratio_over_mach(rho_m, h),
+      mach.critical->mach, mach.critical->lambda);
   EXPECT_GT(damped.critical->lambda, undamped.critical->lambda);
   // At M_cr of the Mach sweep the lambda sweep's damping (rho fixed, U from lambda) differs
   // only through beta(M): the two boundaries agree when M_cr is the case's Mach; elsewhere

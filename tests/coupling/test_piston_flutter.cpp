@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <cstdio>
 
+#include "coupling_test_util.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/coupling/response.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/setup/coupled_setup.h"
 #include "shellflow/shell/shell_queries.h"
-#include "coupling_test_util.h"
 
 namespace shellflow::coupling {
 namespace {
@@ -58,8 +58,8 @@ Flutter eigen_analysis(const io::Case& c, int modes) {
   const PistonTheory& theory = s.piston->theory();
   const LinearFlutterSystem linear(*s.shell, theory, modes);
   const auto roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
-  const auto best = *std::max_element(roots.begin(), roots.end(),
-                                      [](const auto& a, const auto& b) { return a.real() < b.real(); });
+  const auto best =
+      *std::max_element(roots.begin(), roots.end(), [](const auto& a, const auto& b) { return a.real() < b.real(); });
   return {best.real(), std::abs(best.imag()) / (2 * M_PI)};
 }
 
@@ -93,7 +93,8 @@ TEST(PistonFlutter, ClampedSlidingPanelAgainstTheLinearEigenvalues) {
   // The lag of the plain staggered scheme is negative aerodynamic damping: it over-predicts
   // the growth, by less when the shell step halves.
   EXPECT_GT(staggered.growth_rate, linear.growth_rate);
-  EXPECT_LT(std::abs(staggered_half.growth_rate - exact.growth_rate), std::abs(staggered.growth_rate - exact.growth_rate));
+  EXPECT_LT(std::abs(staggered_half.growth_rate - exact.growth_rate),
+            std::abs(staggered.growth_rate - exact.growth_rate));
 }
 
 TEST(PistonFlutter, LinearFlutterDoesNotSeeTheInPlaneSupport) {
@@ -101,8 +102,10 @@ TEST(PistonFlutter, LinearFlutterDoesNotSeeTheInPlaneSupport) {
   // the clamped-clamped and the clamped-sliding panel have the same flutter eigenvalue
   // (lambda = 2 q a^3 / (beta D) = 704 > lambda_cr ~ 636 of both); only membrane stretching
   // (geometric nonlinearity) makes the clamped-clamped one settle into a limit cycle.
-  const Flutter clamped = eigen_analysis(flutter_case("clamped_clamped_piston.yaml", 1e-4, 0.02, LoadPredictor::linear), 24);
-  const Flutter sliding = eigen_analysis(flutter_case("clamped_sliding_piston.yaml", 1e-4, 0.02, LoadPredictor::linear), 24);
+  const Flutter clamped =
+      eigen_analysis(flutter_case("clamped_clamped_piston.yaml", 1e-4, 0.02, LoadPredictor::linear), 24);
+  const Flutter sliding =
+      eigen_analysis(flutter_case("clamped_sliding_piston.yaml", 1e-4, 0.02, LoadPredictor::linear), 24);
   std::printf("linear eigenvalue, clamped-clamped: growth %.4f 1/s, %.4f Hz\n", clamped.growth_rate, clamped.frequency);
   EXPECT_GT(clamped.growth_rate, 0.0);
   EXPECT_NEAR(clamped.growth_rate, sliding.growth_rate, 1e-6 * sliding.growth_rate);

@@ -97,8 +97,8 @@ TEST(ResponseAnalysis, NoiseLeavesFrequencyAndGrowthWithinTheirTolerances) {
     std::mt19937 rng(seed);
     std::normal_distribution<double> noise(0.0, 1e-6);
     std::vector<double> t, w;
-    sample([&](double x) { return 1e-4 * std::exp(30.0 * x) * std::cos(2 * M_PI * 80.0 * x) + noise(rng); }, 5e-5,
-           2000, t, w);
+    sample([&](double x) { return 1e-4 * std::exp(30.0 * x) * std::cos(2 * M_PI * 80.0 * x) + noise(rng); }, 5e-5, 2000,
+           t, w);
     const ResponseAnalysis a = analyse_response(t, w);
     EXPECT_EQ(a.t_start, 0.0);
     EXPECT_NEAR(a.t_end, 0.1, 1e-15);
@@ -115,8 +115,9 @@ TEST(ResponseAnalysis, ABeatHasTheStrongerFrequencyAWideErrorBarAndIsNotSaturate
   // mode (it wobbles within a beat and returns every beat), so the extrema and crossings give
   // about 100 Hz (not the mean 105 Hz); the envelope has no trend but does not fit a line.
   std::vector<double> t, w;
-  sample([](double x) { return 1e-3 * (std::sin(2 * M_PI * 100 * x + 0.3) + 0.5 * std::sin(2 * M_PI * 110 * x + 0.3)); },
-         1e-4, 4000, t, w);
+  sample(
+      [](double x) { return 1e-3 * (std::sin(2 * M_PI * 100 * x + 0.3) + 0.5 * std::sin(2 * M_PI * 110 * x + 0.3)); },
+      1e-4, 4000, t, w);
   const ResponseAnalysis a = analyse_response(t, w);
   EXPECT_NEAR(a.frequency_hz, 100.0, 0.005 * 100.0);
   EXPECT_LT(std::abs(a.growth_rate), 2.0 * a.growth_rate_error);
@@ -135,8 +136,8 @@ TEST(ResponseAnalysis, ASaturatedResponseGivesTheLimitCycleAmplitudeAndFrequency
   // Exponential growth (60 1/s) into a limit cycle of amplitude A: A tanh(1e-3 exp(60 t)) sin.
   const double amplitude = 2.5e-3, f = 77.3, sigma = 60.0;
   std::vector<double> t, w;
-  sample([&](double x) { return amplitude * std::tanh(1e-3 * std::exp(sigma * x)) * std::sin(2 * M_PI * f * x); },
-         1e-4, 3000, t, w);
+  sample([&](double x) { return amplitude * std::tanh(1e-3 * std::exp(sigma * x)) * std::sin(2 * M_PI * f * x); }, 1e-4,
+         3000, t, w);
   const ResponseAnalysis a = analyse_response(t, w, {.lco_cycles = 8});
   EXPECT_TRUE(a.saturated) << a.envelope_change;
   ASSERT_TRUE(a.lco.has_value());

@@ -48,8 +48,10 @@ TEST(ShellStepMotion, FollowsTheCubicHermiteOfTheStepExactly) {
   for (const double tau : {0.0, 0.25, 0.7, 1.0}) {
     motion.evaluate(handle, tau == 1.0 ? t1 : t0 + tau * dt, d, v);
     for (std::size_t i = 0; i < points.size(); ++i) {
-      const Vec3 x0 = shell::interpolate_nodal(model, points[i], u0), x1 = shell::interpolate_nodal(model, points[i], u1);
-      const Vec3 w0 = shell::interpolate_nodal(model, points[i], v0), w1 = shell::interpolate_nodal(model, points[i], v1);
+      const Vec3 x0 = shell::interpolate_nodal(model, points[i], u0),
+                 x1 = shell::interpolate_nodal(model, points[i], u1);
+      const Vec3 w0 = shell::interpolate_nodal(model, points[i], v0),
+                 w1 = shell::interpolate_nodal(model, points[i], v1);
       EXPECT_LT((d[i] - shell::hermite_position(x0, w0, x1, w1, dt, tau)).norm(), 1e-15) << "tau " << tau;
       EXPECT_LT((v[i] - shell::hermite_velocity(x0, w0, x1, w1, dt, tau)).norm(), 1e-12) << "tau " << tau;
       if (tau == 0.0) {
@@ -68,7 +70,8 @@ TEST(ShellStepMotion, FollowsTheCubicHermiteOfTheStepExactly) {
   motion.evaluate(handle, t0 + 0.4 * dt + h, dp, tmp);
   motion.evaluate(handle, t0 + 0.4 * dt - h, dm, tmp);
   motion.evaluate(handle, t0 + 0.4 * dt, d, v);
-  for (std::size_t i = 0; i < points.size(); ++i) EXPECT_LT((v[i] - (dp[i] - dm[i]) / (2 * h)).norm(), 1e-5 * v[i].norm() + 1e-9);
+  for (std::size_t i = 0; i < points.size(); ++i)
+    EXPECT_LT((v[i] - (dp[i] - dm[i]) / (2 * h)).norm(), 1e-5 * v[i].norm() + 1e-9);
 }
 
 TEST(ShellStepMotion, TimeModesRecombineToTheWindowAndANewWindowHasANewId) {

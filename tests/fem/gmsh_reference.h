@@ -1,11 +1,11 @@
 #pragma once
 // Reference data straight from the Gmsh library, so that tests compare shellflow's element
 // definitions with Gmsh's own instead of with numbers typed into the tests.
-#include <string>
-#include <vector>
-
 #include <gmsh.h>
 #include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
 
 namespace shellflow::fem::testing {
 
@@ -30,15 +30,14 @@ struct GmshElementProperties {
 
 inline GmshElementProperties gmsh_element_properties(int gmsh_type) {
   GmshElementProperties p;
-  gmsh::model::mesh::getElementProperties(gmsh_type, p.name, p.dim, p.order, p.num_nodes,
-                                          p.coords, p.num_primary_nodes);
+  gmsh::model::mesh::getElementProperties(gmsh_type, p.name, p.dim, p.order, p.num_nodes, p.coords,
+                                          p.num_primary_nodes);
   return p;
 }
 
 /// Gmsh's Lagrange basis at points given as `dim` coordinates each: values (npoints x
 /// num_nodes) or, with gradients = true, gradients (npoints x num_nodes x dim).
-inline std::vector<double> gmsh_lagrange_basis(int gmsh_type, int dim,
-                                               const std::vector<double>& points,
+inline std::vector<double> gmsh_lagrange_basis(int gmsh_type, int dim, const std::vector<double>& points,
                                                bool gradients) {
   std::vector<double> uvw;
   const std::size_t np = points.size() / static_cast<std::size_t>(dim);
@@ -46,8 +45,8 @@ inline std::vector<double> gmsh_lagrange_basis(int gmsh_type, int dim,
     for (int k = 0; k < 3; ++k) uvw.push_back(k < dim ? points[q * dim + k] : 0.0);
   int num_components = 0, num_orientations = 0;
   std::vector<double> basis;
-  gmsh::model::mesh::getBasisFunctions(gmsh_type, uvw, gradients ? "GradLagrange" : "Lagrange",
-                                       num_components, basis, num_orientations);
+  gmsh::model::mesh::getBasisFunctions(gmsh_type, uvw, gradients ? "GradLagrange" : "Lagrange", num_components, basis,
+                                       num_orientations);
   if (!gradients) return basis;
   // Gmsh always returns 3 components; keep the first dim.
   std::vector<double> g;

@@ -1,14 +1,14 @@
 // Quadrature rules: exactness on every monomial up to the stated degree (against closed-form
 // integrals), a measurable defect at the next degree (so the stated degree is the real one),
 // positive weights, interior points, caching and thread safety.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <set>
 #include <thread>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fem/quadrature.h"
@@ -48,9 +48,7 @@ std::vector<std::array<int, 3>> monomials_of_degree(int dim, int degree) {
 std::vector<double> relative_errors_by_degree(const QuadratureRule& rule, int max_degree) {
   const int dim = rule.dim, np = rule.size(), np1 = max_degree + 1;
   std::vector<double> pw(static_cast<std::size_t>(np) * dim * np1);  // x_k^e per point
-  const auto at = [&](int q, int k, int e) -> double& {
-    return pw[(static_cast<std::size_t>(q) * dim + k) * np1 + e];
-  };
+  const auto at = [&](int q, int k, int e) -> double& { return pw[(static_cast<std::size_t>(q) * dim + k) * np1 + e]; };
   for (int q = 0; q < np; ++q)
     for (int k = 0; k < dim; ++k) {
       at(q, k, 0) = 1.0;
@@ -72,8 +70,8 @@ std::vector<double> relative_errors_by_degree(const QuadratureRule& rule, int ma
 }
 
 void check_simplex_rule(const QuadratureRule& rule, int dim, int asked_degree) {
-  SCOPED_TRACE("rule for degree " + std::to_string(asked_degree) + " (" +
-               std::string(rule.family) + ", " + std::to_string(rule.size()) + " points)");
+  SCOPED_TRACE("rule for degree " + std::to_string(asked_degree) + " (" + std::string(rule.family) + ", " +
+               std::to_string(rule.size()) + " points)");
   ASSERT_EQ(rule.dim, dim);
   ASSERT_GE(rule.degree, std::max(asked_degree, 1));
   ASSERT_EQ(rule.points.size(), rule.weights.size() * static_cast<std::size_t>(dim));
@@ -90,13 +88,11 @@ void check_simplex_rule(const QuadratureRule& rule, int dim, int asked_degree) {
   }
   EXPECT_NEAR(sum, dim == 2 ? 0.5 : 1.0 / 6.0, 1e-14);
   const auto err = relative_errors_by_degree(rule, rule.degree + 1);
-  for (int d = 0; d <= rule.degree; ++d)
-    EXPECT_LT(err[d], 4e-14) << "monomials of degree " << d;
+  for (int d = 0; d <= rule.degree; ++d) EXPECT_LT(err[d], 4e-14) << "monomials of degree " << d;
   // The defect at degree + 1 shrinks like 4^-n with the points per direction; below 1e-11
   // it can no longer be told from rounding, so it is checked up to degree 35.
   if (rule.degree <= 35) {
-    EXPECT_GT(err[rule.degree + 1], 1e-11)
-        << "rule is exact beyond its stated degree " << rule.degree;
+    EXPECT_GT(err[rule.degree + 1], 1e-11) << "rule is exact beyond its stated degree " << rule.degree;
   }
 }
 
@@ -171,8 +167,7 @@ TEST(TriangleRules, EveryDegreeIsExactToItsStatedDegreeWithPositiveWeights) {
 }
 
 TEST(TetrahedronRules, EveryDegreeIsExactToItsStatedDegreeWithPositiveWeights) {
-  for (int d = 0; d <= max_tetrahedron_degree; ++d)
-    check_simplex_rule(tetrahedron_rule(d), 3, d);
+  for (int d = 0; d <= max_tetrahedron_degree; ++d) check_simplex_rule(tetrahedron_rule(d), 3, d);
 }
 
 TEST(CollapsedRules, AreExactToDegree2nMinus1) {
@@ -200,8 +195,7 @@ TEST(SymmetricRules, AreInvariantUnderVertexPermutations) {
         bool found = false;
         for (int j = 0; j < rule.size() && !found; ++j) {
           bool same = std::abs(rule.weights[j] - rule.weights[i]) < 1e-15;
-          for (int k = 0; k < dim && same; ++k)
-            same = std::abs(rule.point(j)[k] - L[perm[k + 1]]) < 1e-14;
+          for (int k = 0; k < dim && same; ++k) same = std::abs(rule.point(j)[k] - L[perm[k + 1]]) < 1e-14;
           found = same;
         }
         EXPECT_TRUE(found) << "image of point " << i << " missing, degree " << rule.degree;

@@ -1,7 +1,7 @@
 // The runtime facade: lookup by Gmsh type, dispatch to the element classes, errors.
-#include <string>
-
 #include <gtest/gtest.h>
+
+#include <string>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fem/reference_element.h"

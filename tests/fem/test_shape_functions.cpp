@@ -1,12 +1,12 @@
 // Shape functions of every element class, checked against Gmsh itself (node coordinates,
 // Kronecker property, basis values and gradients) and against their defining properties
 // (partition of unity, polynomial reproduction, derivatives by finite differences).
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <random>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "gmsh_reference.h"
 #include "shellflow/fem/reference_element.h"
@@ -34,8 +34,7 @@ TYPED_TEST_SUITE(ShapeFunctionTest, Elements, ElementName);
 /// Random points of the reference element, or of the element enlarged by `margin` (the
 /// formulas are polynomials and are also used outside, by point location).
 template <class E>
-std::vector<std::array<double, E::dim>> random_points(int count, double margin = 0.0,
-                                                      unsigned seed = 12345) {
+std::vector<std::array<double, E::dim>> random_points(int count, double margin = 0.0, unsigned seed = 12345) {
   std::mt19937 rng(seed);
   std::vector<std::array<double, E::dim>> pts;
   while (static_cast<int>(pts.size()) < count) {
@@ -184,18 +183,16 @@ TYPED_TEST(ShapeFunctionTest, ReproducesEveryMonomialUpToItsOrder) {
         v += N[a] * pa;
         for (int i = 0; i < E::dim; ++i) {
           g[i] += dN[a * E::dim + i] * pa;
-          for (int j = 0; j < E::dim; ++j)
-            h[i * E::dim + j] += d2N[(a * E::dim + i) * E::dim + j] * pa;
+          for (int j = 0; j < E::dim; ++j) h[i * E::dim + j] += d2N[(a * E::dim + i) * E::dim + j] * pa;
         }
       }
-      const std::string what = "monomial exponents " + std::to_string(e[0]) + " " +
-                               std::to_string(e[1]) + " " + std::to_string(e[2]);
+      const std::string what =
+          "monomial exponents " + std::to_string(e[0]) + " " + std::to_string(e[1]) + " " + std::to_string(e[2]);
       EXPECT_NEAR(v, p.value(x.data(), E::dim), 1e-13) << what;
       for (int i = 0; i < E::dim; ++i) {
         EXPECT_NEAR(g[i], p.derivative(x.data(), E::dim, i), 1e-12) << what;
         for (int j = 0; j < E::dim; ++j)
-          EXPECT_NEAR(h[i * E::dim + j], p.second_derivative(x.data(), E::dim, i, j), 1e-11)
-              << what;
+          EXPECT_NEAR(h[i * E::dim + j], p.second_derivative(x.data(), E::dim, i, j), 1e-11) << what;
       }
     }
   }
@@ -216,8 +213,7 @@ TYPED_TEST(ShapeFunctionTest, GradientsMatchCentralDifferences) {
       E::eval(x.data(), Nm);
       x[i] = xi;
       for (int a = 0; a < E::num_nodes; ++a)
-        EXPECT_NEAR(dN[a * E::dim + i], (Np[a] - Nm[a]) / (2 * h), 1e-7)
-            << "dN_" << a << "/dxi_" << i;
+        EXPECT_NEAR(dN[a * E::dim + i], (Np[a] - Nm[a]) / (2 * h), 1e-7) << "dN_" << a << "/dxi_" << i;
     }
   }
 }
@@ -238,8 +234,7 @@ TYPED_TEST(ShapeFunctionTest, HessiansMatchCentralDifferencesOfGradients) {
       x[j] = xj;
       for (int a = 0; a < E::num_nodes; ++a)
         for (int i = 0; i < E::dim; ++i)
-          EXPECT_NEAR(d2N[(a * E::dim + i) * E::dim + j],
-                      (gp[a * E::dim + i] - gm[a * E::dim + i]) / (2 * h), 1e-6)
+          EXPECT_NEAR(d2N[(a * E::dim + i) * E::dim + j], (gp[a * E::dim + i] - gm[a * E::dim + i]) / (2 * h), 1e-6)
               << "d2N_" << a << "/dxi_" << i << "dxi_" << j;
     }
   }

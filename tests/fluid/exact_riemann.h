@@ -14,8 +14,7 @@ struct State1d {
 
 class ExactRiemann {
  public:
-  ExactRiemann(State1d left, State1d right, double gamma = 1.4)
-      : l_(left), r_(right), g_(gamma) {
+  ExactRiemann(State1d left, State1d right, double gamma = 1.4) : l_(left), r_(right), g_(gamma) {
     cl_ = std::sqrt(g_ * l_.p / l_.rho);
     cr_ = std::sqrt(g_ * r_.p / r_.rho);
     solve_star();

@@ -17,8 +17,7 @@ struct ObliqueShock {
 inline ObliqueShock oblique_shock(double mach, double theta, double gamma = 1.4) {
   auto deflection = [&](double beta) {
     const double m2s2 = mach * mach * std::sin(beta) * std::sin(beta);
-    return std::atan(2.0 / std::tan(beta) * (m2s2 - 1.0) /
-                     (mach * mach * (gamma + std::cos(2.0 * beta)) + 2.0));
+    return std::atan(2.0 / std::tan(beta) * (m2s2 - 1.0) / (mach * mach * (gamma + std::cos(2.0 * beta)) + 2.0));
   };
   // Angle of maximum deflection by golden-section search.
   double lo = std::asin(1.0 / mach), hi = 0.5 * std::numbers::pi;

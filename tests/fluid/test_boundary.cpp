@@ -79,11 +79,9 @@ TEST(BoundaryConditions, BadConditionsStopWithAMessageNamingTheGroup) {
   const BoundaryCondition right{"right", BoundaryKind::slip_wall, {}, {}};
   const BoundaryCondition sides{"sides", BoundaryKind::symmetry, {}, {}};
   EXPECT_NE(message({left, right}).find("'sides'"), std::string::npos);
-  EXPECT_NE(message({left, right, sides, {"nowhere", BoundaryKind::symmetry, {}, {}}})
-                .find("nowhere"),
+  EXPECT_NE(message({left, right, sides, {"nowhere", BoundaryKind::symmetry, {}, {}}}).find("nowhere"),
             std::string::npos);
-  const BoundaryCondition subsonic{"left", BoundaryKind::supersonic_inflow,
-                                   {1.0, Vec3(0.5, 0, 0), 1.0 / 1.4}, {}};
+  const BoundaryCondition subsonic{"left", BoundaryKind::supersonic_inflow, {1.0, Vec3(0.5, 0, 0), 1.0 / 1.4}, {}};
   const auto m = message({subsonic, right, sides});
   EXPECT_NE(m.find("Mach 0.5"), std::string::npos) << m;
   EXPECT_NE(message({left, left, right, sides}).find("two conditions"), std::string::npos);
@@ -148,8 +146,7 @@ TEST(WallForce, UniformPressureOnAClosedSurfaceGivesNoNetForceAndPushesAWallOutw
                     {"right", BoundaryKind::slip_wall, {}, {}},
                     {"sides", BoundaryKind::symmetry, {}, {}}});
   model.set_state([](const Vec3&) { return Primitive{1.0, Vec3::Zero(), 2.5}; });
-  const Vec3 total = model.pressure_force("left") + model.pressure_force("right") +
-                     model.pressure_force("sides");
+  const Vec3 total = model.pressure_force("left") + model.pressure_force("right") + model.pressure_force("sides");
   EXPECT_LT(total.norm(), 1e-14);
   // The gas pushes the wall at x = 0 towards -x with p times its area.
   const Vec3 left = model.pressure_force("left");
@@ -186,8 +183,7 @@ TEST(BoundaryConditions, NoSlipWallImposesTheWallVelocityAndTemperatureAndOutran
                    {BoundaryCondition::no_slip("left", [&](Index, const Vec3&, double) { return v_wall; }),
                     BoundaryCondition::no_slip("right", {}, t_wall),
                     {"sides", BoundaryKind::symmetry, {}, {}}});
-  EXPECT_EQ(model.boundaries().adiabatic_wall_faces().size(),
-            std::size_t(model.mesh().group("left").elements.size()));
+  EXPECT_EQ(model.boundaries().adiabatic_wall_faces().size(), std::size_t(model.mesh().group("left").elements.size()));
   const auto given = [](const Vec3& x) {
     return Primitive{1.0 + 0.1 * x.x(), Vec3(0.3 + x.x(), 0.2, -0.1), 2.0 + x.x()};
   };
@@ -214,11 +210,11 @@ TEST(BoundaryConditions, NoSlipWallImposesTheWallVelocityAndTemperatureAndOutran
   }
   EXPECT_EQ(left, 4);
   EXPECT_EQ(right, 4);
-  EXPECT_THROW(
-      FluidModel(test_support::case_mesh("tube_nx100.geo"), FluidOptions{},
-                 {BoundaryCondition::no_slip("left"), BoundaryCondition::no_slip("right"),
-                  {"sides", BoundaryKind::symmetry, {}, {}}}),
-      InputError);  // inviscid gas
+  EXPECT_THROW(FluidModel(test_support::case_mesh("tube_nx100.geo"), FluidOptions{},
+                          {BoundaryCondition::no_slip("left"),
+                           BoundaryCondition::no_slip("right"),
+                           {"sides", BoundaryKind::symmetry, {}, {}}}),
+               InputError);  // inviscid gas
 }
 
 TEST(WallForce, EulerTractionIsPressureTimesTheNormalAndTheForceIsThePressureForce) {

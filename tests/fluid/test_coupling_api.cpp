@@ -21,8 +21,7 @@ namespace {
 constexpr double lx = 1.0, ly = 0.5, dz = 0.02;
 
 /// Slab with a slip-wall bottom, a far-field top, supersonic in/outflow at the ends.
-FluidModel slab_model(int nx, int ny, const Primitive& free_stream, WallVelocity bottom = {},
-                      double q_dif = 0.0) {
+FluidModel slab_model(int nx, int ny, const Primitive& free_stream, WallVelocity bottom = {}, double q_dif = 0.0) {
   FluidOptions o;
   o.q_dif = q_dif;
   return FluidModel(test_support::slab_mesh(nx, ny, lx, ly, dz), o,
@@ -83,8 +82,8 @@ TEST(WallVelocity, PerNodeValuesImposeTheRelativeNormalVelocityAndNotTheSymmetry
 }
 
 TEST(WallVelocity, ClosureAndTheSameValuesSetPerNodeGiveIdenticalBits) {
-  auto closure_model =
-      slab_model(10, 5, supersonic, [](Index, const Vec3& x, double t) { return wall_velocity_at(x, t); }, 1.0);
+  auto closure_model = slab_model(
+      10, 5, supersonic, [](Index, const Vec3& x, double t) { return wall_velocity_at(x, t); }, 1.0);
   auto set_model = slab_model(10, 5, supersonic, {}, 1.0);
   set_model.set_wall_velocity("bottom", bottom_velocities(set_model, 0.0));
   for (auto* m : {&closure_model, &set_model}) m->set_state([](const Vec3&) { return supersonic; });
@@ -116,9 +115,10 @@ TEST(WallVelocity, NoSlipWallTakesThePerNodeVelocityInsteadOfTheClosure) {
   FluidModel model(test_support::slab_mesh(6, 3, lx, ly, dz), o,
                    {{"left", BoundaryKind::supersonic_inflow, supersonic},
                     {"right", BoundaryKind::supersonic_outflow},
-                    BoundaryCondition::no_slip("bottom", [](Index, const Vec3&, double) {
-                      return Vec3(9.0, 9.0, 9.0);  // replaced by the per-node values
-                    }),
+                    BoundaryCondition::no_slip("bottom",
+                                               [](Index, const Vec3&, double) {
+                                                 return Vec3(9.0, 9.0, 9.0);  // replaced by the per-node values
+                                               }),
                     {"top", BoundaryKind::far_field, supersonic},
                     {"symmetry", BoundaryKind::symmetry}});
   const auto v = bottom_velocities(model, 0.0);
@@ -171,8 +171,7 @@ namespace {
 /// Bottom bump: nodes move in y with A sin(omega t) sin(pi x) (1 - y / ly).
 constexpr double amplitude = 2e-3, omega = 20.0;
 Vec3 bump(const Vec3& X, double t) {
-  return X + Vec3(0.0, amplitude * std::sin(omega * t) * std::sin(std::numbers::pi * X.x()) *
-                           (1.0 - X.y() / ly), 0.0);
+  return X + Vec3(0.0, amplitude * std::sin(omega * t) * std::sin(std::numbers::pi * X.x()) * (1.0 - X.y() / ly), 0.0);
 }
 
 struct Bits {
@@ -192,14 +191,14 @@ Bits march(FluidModel& model, const std::vector<Vec3>& X, int m) {
     const double t = model.time() + dt;
     for (std::size_t a = 0; a < X.size(); ++a) x[a] = bump(X[a], t);
     for (std::size_t i = 0; i < bottom.size(); ++i)
-      v[i] = Vec3(0.0, amplitude * omega * std::cos(omega * t) *
-                           std::sin(std::numbers::pi * X[std::size_t(bottom[i])].x()), 0.0);
+      v[i] = Vec3(0.0,
+                  amplitude * omega * std::cos(omega * t) * std::sin(std::numbers::pi * X[std::size_t(bottom[i])].x()),
+                  0.0);
     model.set_wall_velocity("bottom", v);
     model.step(dt, x);
   }
   return {model.state(), std::vector<Vec3>(model.positions().begin(), model.positions().end()),
-          std::vector<Vec3>(model.mesh_velocity().begin(), model.mesh_velocity().end()),
-          model.time(), model.steps()};
+          std::vector<Vec3>(model.mesh_velocity().begin(), model.mesh_velocity().end()), model.time(), model.steps()};
 }
 
 }  // namespace
@@ -219,8 +218,8 @@ TEST(Snapshot, RestoreThenStepRepeatsTheStepsBitForBitWithOneAndTwoThreads) {
     // Something moved and changed, so the comparison below is not trivial.
     ASSERT_NE(first.U.var[2], snap.U.var[2]);
     ASSERT_NE(first.x, snap.x);
-    model.set_wall_velocity("bottom", std::vector<Vec3>(model.mesh().group("bottom").nodes.size(),
-                                                        Vec3(0.0, 1.0, 0.0)));
+    model.set_wall_velocity("bottom",
+                            std::vector<Vec3>(model.mesh().group("bottom").nodes.size(), Vec3(0.0, 1.0, 0.0)));
     model.restore(snap);
     EXPECT_EQ(model.time(), snap.time);
     EXPECT_EQ(model.steps(), 3);
@@ -286,8 +285,7 @@ TEST(FarField, SlabNodesOnASymmetryPlaneGetTheCharacteristicStateThenTheWallCons
     EXPECT_NEAR(s.velocity.z(), 0.0, 1e-14) << "symmetry normal removed, node " << a;
   }
   // Away from the top the slip walls and symmetry planes alone apply.
-  for (const Index a : model.mesh().group("bottom").nodes)
-    EXPECT_NEAR(model.primitive(a).pressure, in.pressure, 1e-13);
+  for (const Index a : model.mesh().group("bottom").nodes) EXPECT_NEAR(model.primitive(a).pressure, in.pressure, 1e-13);
 }
 
 TEST(FarField, PulseOnASlabLeavesThroughTheFarField) {

@@ -15,8 +15,7 @@ namespace {
 
 constexpr double gamma_air = 1.4;
 const double angle = 10.0 * std::numbers::pi / 180.0;
-const Primitive free_stream{1.0, 2.3 * Vec3(std::cos(angle), std::sin(angle), 0.0),
-                            1.0 / gamma_air};
+const Primitive free_stream{1.0, 2.3 * Vec3(std::cos(angle), std::sin(angle), 0.0), 1.0 / gamma_air};
 
 double max_relative_deviation(const FluidModel& model) {
   const Conservative q = to_conservative(model.options().gas, free_stream);
@@ -36,8 +35,7 @@ FluidModel cube_model(BoundaryKind kind, int consistent_mass_iterations = 0) {
   o.consistent_mass_iterations = consistent_mass_iterations;
   o.gas.gamma = gamma_air;
   o.q_dif = 1.0;  // shock capturing on
-  FluidModel model(test_support::case_mesh("unit_cube.geo"), o,
-                   {{"boundary", kind, free_stream, {}}});
+  FluidModel model(test_support::case_mesh("unit_cube.geo"), o, {{"boundary", kind, free_stream, {}}});
   model.set_state([](const Vec3&) { return free_stream; });
   return model;
 }
@@ -45,8 +43,8 @@ FluidModel cube_model(BoundaryKind kind, int consistent_mass_iterations = 0) {
 // x = X + A sin(2 pi t / T) sin(pi X) sin(pi Y) sin(pi Z) (1, 0.8, 0.6).
 Vec3 smooth_motion(const Vec3& X, double t) {
   const double A = 0.05, T = 0.386, pi = std::numbers::pi;
-  return X + A * std::sin(2 * pi * t / T) * std::sin(pi * X.x()) * std::sin(pi * X.y()) *
-                 std::sin(pi * X.z()) * Vec3(1.0, 0.8, 0.6);
+  return X + A * std::sin(2 * pi * t / T) * std::sin(pi * X.x()) * std::sin(pi * X.y()) * std::sin(pi * X.z()) *
+                 Vec3(1.0, 0.8, 0.6);
 }
 
 }  // namespace
@@ -64,8 +62,7 @@ TEST(FreeStream, IsPreservedExactlyOnASmoothlyDeformingMesh) {
   }
   double max_w = 0;
   for (const auto& w : model.mesh_velocity()) max_w = std::max(max_w, w.norm());
-  std::printf("smooth motion: t = %.4f, max |w| at the end %.3f, max deviation %.3e\n",
-              model.time(), max_w, worst);
+  std::printf("smooth motion: t = %.4f, max |w| at the end %.3f, max deviation %.3e\n", model.time(), max_w, worst);
   EXPECT_LE(worst, 1e-12);
 }
 

@@ -1,20 +1,19 @@
 // Per-tetrahedron geometry, lumped mass, RCM renumbering and element colouring.
 #include <gtest/gtest.h>
-
 #include <omp.h>
 
 #include <algorithm>
 #include <cstring>
+#include <map>
 #include <numeric>
 #include <random>
-#include <map>
 #include <set>
 
-#include "support/box_mesh.h"
 #include "fluid_test_util.h"
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/geometry.h"
 #include "shellflow/fluid/ordering.h"
+#include "support/box_mesh.h"
 
 using namespace shellflow;
 using namespace shellflow::fluid;
@@ -99,7 +98,7 @@ TEST(Ordering, ReverseCuthillMcKeeShrinksTheBandwidthOfAShuffledMesh) {
   const Index after = node_bandwidth(m.cells.connectivity, 4);
   std::printf("bandwidth: shuffled %d, RCM %d (nodes %d)\n", before, after, m.num_nodes());
   EXPECT_LT(after * 5, before);
-  EXPECT_LT(after, 3 * 11 * 11);  // a structured 11^3-node cube has bandwidth ~ 11^2
+  EXPECT_LT(after, 3 * 11 * 11);                // a structured 11^3-node cube has bandwidth ~ 11^2
   EXPECT_NEAR(total_volume(m), volume, 1e-13);  // cells keep their orientation
   // A permutation; group node lists follow the nodes.
   std::set<Index> image(new_index.begin(), new_index.end());
@@ -121,18 +120,16 @@ TEST(Ordering, NoTwoBlocksOfOneColourShareANode) {
     EXPECT_EQ(all.size(), colours.order.size());
     for (int c = 0; c < colours.num_colours(); ++c) {
       std::map<Index, Index> owner;  // node -> block of this colour
-      for (Index b = colours.colour_offsets[std::size_t(c)];
-           b < colours.colour_offsets[std::size_t(c) + 1]; ++b)
-        for (Index k = colours.block_offsets[std::size_t(b)];
-             k < colours.block_offsets[std::size_t(b) + 1]; ++k) {
+      for (Index b = colours.colour_offsets[std::size_t(c)]; b < colours.colour_offsets[std::size_t(c) + 1]; ++b)
+        for (Index k = colours.block_offsets[std::size_t(b)]; k < colours.block_offsets[std::size_t(b) + 1]; ++k) {
           for (const Index a : m.cells.element(colours.order[std::size_t(k)])) {
             const auto [it, fresh] = owner.emplace(a, b);
             ASSERT_TRUE(fresh || it->second == b) << "colour " << c << " node " << a;
           }
         }
     }
-    std::printf("block size %d: %d colours, %d blocks for %d tets\n", block_size,
-                colours.num_colours(), colours.num_blocks(), m.num_cells());
+    std::printf("block size %d: %d colours, %d blocks for %d tets\n", block_size, colours.num_colours(),
+                colours.num_blocks(), m.num_cells());
     if (block_size == 1) {
       EXPECT_LE(colours.num_colours(), 40);
     }
@@ -142,7 +139,8 @@ TEST(Ordering, NoTwoBlocksOfOneColourShareANode) {
 // The lumped mass scattered colour by colour in parallel (the moving-mesh step's path) has
 // the bits of the serial sum, on a mesh above the parallel threshold, with 1 and 2 threads.
 TEST(TetGeometry, ColourLoopGivesTheSerialLumpedMassBitForBit) {
-  const auto mesh = shuffled(shellflow::support::box_mesh({18, 18, 18}, Vec3(1, 1, 1), [](const Vec3&) { return std::string(); }), 7);
+  const auto mesh =
+      shuffled(shellflow::support::box_mesh({18, 18, 18}, Vec3(1, 1, 1), [](const Vec3&) { return std::string(); }), 7);
   ASSERT_GT(mesh.num_cells(), parallel_threshold);
   const CellColouring colours =
       colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), default_block_size(mesh.num_cells(), 2));

@@ -55,8 +55,8 @@ TEST(ElementKernel, JacobianProductMatchesFiniteDifferenceOfTheFlux) {
       }
       const auto fp = flux(gamma, up, dir), fm = flux(gamma, um, dir);
       for (int v = 0; v < 5; ++v) {
-        const double expected = (fp[std::size_t(v)] - fm[std::size_t(v)]) / (2 * eps) -
-                                (relative ? s.w[dir] * d[v] : 0.0);
+        const double expected =
+            (fp[std::size_t(v)] - fm[std::size_t(v)]) / (2 * eps) - (relative ? s.w[dir] * d[v] : 0.0);
         EXPECT_NEAR(out[v], expected, 1e-8) << "dir " << dir << " row " << v;
       }
     }
@@ -121,8 +121,7 @@ TEST(ElementKernel, ConvectiveResidualOfALinearMassFluxIsItsDivergence) {
   ResidualParameters p;
   p.dt = dt;
   p.mesh_moves = false;
-  assemble_residual(p, {tets, colours.block_offsets, colours.colour_offsets}, g, u,
-                    w, {}, r);
+  assemble_residual(p, {tets, colours.block_offsets, colours.colour_offsets}, g, u, w, {}, r);
   for (Index a = 0; a < m.num_nodes(); ++a) {
     const Vec3& x = m.nodes[std::size_t(a)];
     if (x.minCoeff() < 1e-9 || x.maxCoeff() > 1 - 1e-9) continue;

@@ -33,8 +33,7 @@ ContactError stationary_contact(int nx, TgVelocity tg_velocity, bool c2 = true, 
   FluidOptions o;
   o.tg_velocity = tg_velocity;
   o.moving_mesh_correction = c2;
-  FluidModel model(test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"), o,
-                   tube_conditions());
+  FluidModel model(test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"), o, tube_conditions());
   model.set_state([](const Vec3& x) { return Primitive{rho0(x.x()), Vec3::Zero(), 1.0}; });
   test_support::run_until_moving(model, 1.0, cfl, [](const Vec3& X, double t) {
     return Vec3(X.x() + 0.05 * std::sin(pi * X.x()) * std::sin(2 * pi * t / 0.5), X.y(), X.z());
@@ -56,13 +55,12 @@ TEST(MovingMesh, StationaryContactOnAnOscillatingMeshConvergesAtSecondOrder) {
   std::vector<ContactError> errors;
   for (const int nx : resolutions) {
     errors.push_back(stationary_contact(nx, TgVelocity::relative));
-    std::printf("stationary contact Nx=%d: mean |error| %.3e, max |error|/0.5 %.3e\n", nx,
-                errors.back().l1, errors.back().max / 0.5);
+    std::printf("stationary contact Nx=%d: mean |error| %.3e, max |error|/0.5 %.3e\n", nx, errors.back().l1,
+                errors.back().max / 0.5);
   }
   for (std::size_t i = 1; i < errors.size(); ++i) {
     const double order = std::log2(errors[i - 1].max / errors[i].max);
-    std::printf("observed max-norm order %d -> %d: %.3f (mean-norm %.3f)\n",
-                resolutions[i - 1], resolutions[i], order,
+    std::printf("observed max-norm order %d -> %d: %.3f (mean-norm %.3f)\n", resolutions[i - 1], resolutions[i], order,
                 std::log2(errors[i - 1].l1 / errors[i].l1));
     EXPECT_GE(order, 1.5);
   }
@@ -79,18 +77,14 @@ TEST(MovingMesh, SodOnADeformingMeshIsAsAccurateAsOnAFixedOne) {
     for (const bool moving : {false, true}) {
       FluidOptions o;
       o.q_dif = 1.0;
-      FluidModel model(test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"), o,
-                       tube_conditions());
+      FluidModel model(test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"), o, tube_conditions());
       model.set_state([&](const Vec3& x) {
-        const State1d s = x.x() < 0.5 - 1e-12 ? left
-                          : x.x() > 0.5 + 1e-12 ? right
-                          : State1d{0.5625, 0.0, 0.55};
+        const State1d s = x.x() < 0.5 - 1e-12 ? left : x.x() > 0.5 + 1e-12 ? right : State1d{0.5625, 0.0, 0.55};
         return Primitive{s.rho, Vec3::Zero(), s.p};
       });
       test_support::run_until_moving(model, 0.2, 0.5, [&](const Vec3& X, double t) {
         const double amplitude = moving ? 0.01 : 0.0;
-        return Vec3(X.x() + amplitude * std::sin(pi * X.x()) * std::sin(2 * pi * t / 0.1), X.y(),
-                    X.z());
+        return Vec3(X.x() + amplitude * std::sin(pi * X.x()) * std::sin(2 * pi * t / 0.1), X.y(), X.z());
       });
       // Nodes are back at X at t = 0.2 (up to round-off); L1 over nodes, one value per x.
       const auto n = model.mesh().num_nodes();
@@ -99,8 +93,7 @@ TEST(MovingMesh, SodOnADeformingMeshIsAsAccurateAsOnAFixedOne) {
         l1[moving] += std::abs(model.primitive(a).rho - exact.sample((x - 0.5) / 0.2).rho) / n;
       }
     }
-    std::printf("Sod Nx=%d: L1(rho) fixed %.5f, deforming %.5f (ratio %.3f)\n", nx, l1[0], l1[1],
-                l1[1] / l1[0]);
+    std::printf("Sod Nx=%d: L1(rho) fixed %.5f, deforming %.5f (ratio %.3f)\n", nx, l1[0], l1[1], l1[1] / l1[0]);
     EXPECT_LE(l1[1], 1.25 * l1[0]) << "Nx = " << nx;
   }
 }
@@ -114,8 +107,7 @@ TEST(MovingMesh, PaperVelocityOrMissingC2CorrectionIsOnlyFirstOrder) {
   const auto no_c2_400 = stationary_contact(400, TgVelocity::relative, false);
   const double order_fluid = std::log2(fluid_200.max / fluid_400.max);
   const double order_no_c2 = std::log2(no_c2_200.max / no_c2_400.max);
-  std::printf("order 200 -> 400: tg_velocity = fluid %.3f, without C2 %.3f\n", order_fluid,
-              order_no_c2);
+  std::printf("order 200 -> 400: tg_velocity = fluid %.3f, without C2 %.3f\n", order_fluid, order_no_c2);
   EXPECT_LT(order_fluid, 1.2);
   EXPECT_LT(order_no_c2, 1.4);
 }
@@ -128,17 +120,15 @@ namespace {
 double piston_pressure(double V, int nx, int consistent_mass_iterations = 0, double cfl = 0.5) {
   const double ramp = 0.02;
   auto velocity = [=](double t) { return V * std::min(t / ramp, 1.0); };
-  auto position = [=](double t) {
-    return t < ramp ? 0.5 * V * t * t / ramp : V * (0.5 * ramp + (t - ramp));
-  };
+  auto position = [=](double t) { return t < ramp ? 0.5 * V * t * t / ramp : V * (0.5 * ramp + (t - ramp)); };
   FluidOptions o;
   o.q_dif = 1.0;
   o.consistent_mass_iterations = consistent_mass_iterations;
-  FluidModel model(test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"), o,
-                   {{"left", BoundaryKind::slip_wall, {},
-                     [&](Index, const Vec3&, double t) { return Vec3(velocity(t), 0.0, 0.0); }},
-                    {"right", BoundaryKind::slip_wall, {}, {}},
-                    {"sides", BoundaryKind::symmetry, {}, {}}});
+  FluidModel model(
+      test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"), o,
+      {{"left", BoundaryKind::slip_wall, {}, [&](Index, const Vec3&, double t) { return Vec3(velocity(t), 0.0, 0.0); }},
+       {"right", BoundaryKind::slip_wall, {}, {}},
+       {"sides", BoundaryKind::symmetry, {}, {}}});
   model.set_state([](const Vec3&) { return Primitive{1.4, Vec3::Zero(), 1.0}; });
   const auto& piston_nodes = model.mesh().group("left").nodes;
   const std::vector<Vec3> X(model.positions().begin(), model.positions().end());
@@ -167,11 +157,10 @@ TEST(MovingMesh, PistonFacePressureMatchesTheExactWaveSolution) {
   struct Case {
     double V, p_exact;
   };
-  for (const Case c : {Case{0.01, 1.01408425}, Case{0.1, 1.14865177}, Case{-0.01, 0.98608372},
-                       Case{-0.1, 0.86812553}}) {
+  for (const Case c :
+       {Case{0.01, 1.01408425}, Case{0.1, 1.14865177}, Case{-0.01, 0.98608372}, Case{-0.1, 0.86812553}}) {
     const double p = piston_pressure(c.V, 100);
-    std::printf("piston V=%+.2f: p = %.6f, exact %.6f, error %+.4f%%\n", c.V, p, c.p_exact,
-                100 * (p / c.p_exact - 1));
+    std::printf("piston V=%+.2f: p = %.6f, exact %.6f, error %+.4f%%\n", c.V, p, c.p_exact, 100 * (p / c.p_exact - 1));
     EXPECT_NEAR(p / c.p_exact, 1.0, 0.005) << "V = " << c.V;
   }
 }
@@ -180,8 +169,7 @@ TEST(MovingMesh, PistonWithConsistentMassMatchesTooAtCfl03) {
   for (const double V : {0.1, -0.1}) {
     const double p = piston_pressure(V, 100, 3, 0.3);
     const double exact = V > 0 ? 1.14865177 : 0.86812553;
-    std::printf("piston (consistent mass) V=%+.2f: p = %.6f, error %+.4f%%\n", V, p,
-                100 * (p / exact - 1));
+    std::printf("piston (consistent mass) V=%+.2f: p = %.6f, error %+.4f%%\n", V, p, 100 * (p / exact - 1));
     EXPECT_NEAR(p / exact, 1.0, 0.005);
   }
 }
@@ -192,8 +180,8 @@ namespace {
 /// t = 1; inflow prescribes the exact state, outflow is natural (C3 term). Max error.
 /// `symmetric`: the tube with mirrored columns (symmetric_tube.h); the extruded tube of
 /// cases/fluid gives first order here (lopsided lumped mass, see symmetric_tube.h).
-double entropy_wave_error(int nx, double amplitude = 0.05, int mass_iterations = 0,
-                          double* x_worst = nullptr, bool symmetric = true) {
+double entropy_wave_error(int nx, double amplitude = 0.05, int mass_iterations = 0, double* x_worst = nullptr,
+                          bool symmetric = true) {
   auto exact = [](const Vec3& x, double t) {
     return Primitive{1.0 + 0.2 * std::sin(2 * pi * (x.x() - 2 * t)), Vec3(2.0, 0.0, 0.0), 1.0};
   };
@@ -201,19 +189,17 @@ double entropy_wave_error(int nx, double amplitude = 0.05, int mass_iterations =
   o.consistent_mass_iterations = mass_iterations;
   FluidModel model(symmetric ? test_support::symmetric_tube(nx, 0.02)
                              : test_support::case_mesh("tube_nx" + std::to_string(nx) + ".geo"),
-                   o, {{"left", BoundaryKind::supersonic_inflow, {}, {}, exact},
+                   o,
+                   {{"left", BoundaryKind::supersonic_inflow, {}, {}, exact},
                     {"right", BoundaryKind::supersonic_outflow, {}, {}, {}},
                     {"sides", BoundaryKind::symmetry, {}, {}, {}}});
   model.set_state([&](const Vec3& x) { return exact(x, 0.0); });
-  test_support::run_until_moving(model, 1.0, mass_iterations ? 0.3 : 0.5,
-                                 [&](const Vec3& X, double t) {
-    return Vec3(X.x() + amplitude * std::sin(pi * X.x()) * std::sin(2 * pi * t / 0.5), X.y(),
-                X.z());
+  test_support::run_until_moving(model, 1.0, mass_iterations ? 0.3 : 0.5, [&](const Vec3& X, double t) {
+    return Vec3(X.x() + amplitude * std::sin(pi * X.x()) * std::sin(2 * pi * t / 0.5), X.y(), X.z());
   });
   double err = 0.0;
   for (Index a = 0; a < model.mesh().num_nodes(); ++a) {
-    const double e = std::abs(model.primitive(a).rho -
-                              exact(model.positions()[std::size_t(a)], model.time()).rho);
+    const double e = std::abs(model.primitive(a).rho - exact(model.positions()[std::size_t(a)], model.time()).rho);
     if (e > err && x_worst) *x_worst = model.positions()[std::size_t(a)].x();
     err = std::max(err, e);
   }
@@ -245,8 +231,7 @@ TEST(MovingMesh, EntropyWaveWithConsistentMassConvergesAtSecondOrder) {
   }
   for (std::size_t i = 1; i < errors.size(); ++i) {
     const double order = std::log2(errors[i - 1] / errors[i]);
-    std::printf("entropy wave (consistent mass) order %d -> %d: %.3f\n", resolutions[i - 1],
-                resolutions[i], order);
+    std::printf("entropy wave (consistent mass) order %d -> %d: %.3f\n", resolutions[i - 1], resolutions[i], order);
     EXPECT_GE(order, 1.7);
   }
 }

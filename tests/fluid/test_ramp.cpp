@@ -37,10 +37,13 @@ RampResult run_ramp(int theta_deg, double t_end, bool local = false, int local_s
                     {"symmetry", BoundaryKind::symmetry, {}, {}}});
   model.set_state([&](const Vec3&) { return free_stream; });
   if (local) {
-    const double initial_rate = [&] { model.step_local(0.5); return model.density_rate(); }();
+    const double initial_rate = [&] {
+      model.step_local(0.5);
+      return model.density_rate();
+    }();
     for (int n = 1; n < local_steps; ++n) model.step_local(0.5);
-    std::printf("local time stepping: %d steps, d(rho)/dt RMS %.3e -> %.3e\n", local_steps,
-                initial_rate, model.density_rate());
+    std::printf("local time stepping: %d steps, d(rho)/dt RMS %.3e -> %.3e\n", local_steps, initial_rate,
+                model.density_rate());
   } else {
     test_support::run_until(model, t_end, 0.5);
   }
@@ -74,9 +77,8 @@ RampResult run_ramp(int theta_deg, double t_end, bool local = false, int local_s
         if (std::abs(xa.z()) > 1e-12 || std::abs(xb.z()) > 1e-12) continue;
         if ((xa.y() - 0.3) * (xb.y() - 0.3) > 0 || xa.y() == xb.y()) continue;
         const double f = (0.3 - xa.y()) / (xb.y() - xa.y());
-        samples.emplace_back(xa.x() + f * (xb.x() - xa.x()),
-                             (1 - f) * model.primitive(n[std::size_t(i)]).pressure +
-                                 f * model.primitive(n[std::size_t(j)]).pressure);
+        samples.emplace_back(xa.x() + f * (xb.x() - xa.x()), (1 - f) * model.primitive(n[std::size_t(i)]).pressure +
+                                                                 f * model.primitive(n[std::size_t(j)]).pressure);
       }
   }
   std::sort(samples.begin(), samples.end());
@@ -96,11 +98,11 @@ RampResult run_ramp(int theta_deg, double t_end, bool local = false, int local_s
 void check_ramp(int theta) {
   const auto exact = test_support::oblique_shock(2.5, theta * deg);
   const auto r = run_ramp(theta, 2.0);
-  std::printf("ramp %d deg: wall p2/p1 = %.5f (exact %.5f, %+.3f%%), beta = %.3f deg "
-              "(exact %.3f, %+.3f deg)\n",
-              theta, r.wall_pressure_ratio, exact.pressure_ratio,
-              100 * (r.wall_pressure_ratio / exact.pressure_ratio - 1), r.beta_deg,
-              exact.beta / deg, r.beta_deg - exact.beta / deg);
+  std::printf(
+      "ramp %d deg: wall p2/p1 = %.5f (exact %.5f, %+.3f%%), beta = %.3f deg "
+      "(exact %.3f, %+.3f deg)\n",
+      theta, r.wall_pressure_ratio, exact.pressure_ratio, 100 * (r.wall_pressure_ratio / exact.pressure_ratio - 1),
+      r.beta_deg, exact.beta / deg, r.beta_deg - exact.beta / deg);
   EXPECT_NEAR(r.wall_pressure_ratio / exact.pressure_ratio, 1.0, 0.015);
   EXPECT_NEAR(r.beta_deg, exact.beta / deg, 0.7);
 }
@@ -122,9 +124,8 @@ TEST(CompressionRamp, Mach25At15DegreesMatchesTheObliqueShock) { check_ramp(15);
 TEST(CompressionRamp, LocalTimeSteppingReachesTheSameSteadyState) {
   const auto exact = test_support::oblique_shock(2.5, 15 * deg);
   const auto r = run_ramp(15, 0.0, true, 1500);
-  std::printf("ramp 15 deg, local steps: wall p2/p1 = %.5f (%+.3f%%), beta = %.3f deg (%+.3f)\n",
-              r.wall_pressure_ratio, 100 * (r.wall_pressure_ratio / exact.pressure_ratio - 1),
-              r.beta_deg, r.beta_deg - exact.beta / deg);
+  std::printf("ramp 15 deg, local steps: wall p2/p1 = %.5f (%+.3f%%), beta = %.3f deg (%+.3f)\n", r.wall_pressure_ratio,
+              100 * (r.wall_pressure_ratio / exact.pressure_ratio - 1), r.beta_deg, r.beta_deg - exact.beta / deg);
   EXPECT_NEAR(r.wall_pressure_ratio / exact.pressure_ratio, 1.0, 0.015);
   EXPECT_NEAR(r.beta_deg, exact.beta / deg, 0.7);
 }

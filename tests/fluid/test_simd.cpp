@@ -41,9 +41,9 @@ struct PassSetup {
     u.resize(mesh.num_nodes());
     for (Index a = 0; a < mesh.num_nodes(); ++a) {
       const Vec3& x = mesh.nodes[std::size_t(a)];
-      u.set(a, to_conservative(gas, {1.2 + 0.3 * std::sin(3 * x.x()),
-                                     Vec3(2.1 + x.y(), 0.4 - x.z() * x.x(), -0.3 + 0.5 * x.y()),
-                                     0.9 + 0.2 * std::cos(2 * x.z())}));
+      u.set(a, to_conservative(
+                   gas, {1.2 + 0.3 * std::sin(3 * x.x()), Vec3(2.1 + x.y(), 0.4 - x.z() * x.x(), -0.3 + 0.5 * x.y()),
+                         0.9 + 0.2 * std::cos(2 * x.z())}));
     }
     w.resize(mesh.nodes.size());
     for (auto& v : w) v = Vec3(speed(rng), speed(rng), speed(rng));
@@ -75,10 +75,9 @@ struct PassSetup {
 std::vector<SimdPath> paths_of_this_cpu() {
   std::vector<SimdPath> paths{SimdPath::sse2};
   if (__builtin_cpu_supports("avx2")) paths.push_back(SimdPath::avx2);
-  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
-    paths.push_back(SimdPath::avx2_fma);
-  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-      __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("fma"))
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) paths.push_back(SimdPath::avx2_fma);
+  if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl") &&
+      __builtin_cpu_supports("fma"))
     paths.push_back(SimdPath::avx512);
   return paths;
 }

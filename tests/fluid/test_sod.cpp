@@ -32,8 +32,7 @@ struct RiemannCase {
   BoundaryKind ends;
 };
 const RiemannCase sod{sod_left, sod_right, 0.2, 0.52, 0.82, BoundaryKind::slip_wall};
-const RiemannCase lax{{0.445, 0.698, 3.528}, {0.5, 0.0, 0.571}, 0.14, 0.30, 0.82,
-                      BoundaryKind::far_field};
+const RiemannCase lax{{0.445, 0.698, 3.528}, {0.5, 0.0, 0.571}, 0.14, 0.30, 0.82, BoundaryKind::far_field};
 
 Primitive primitive(const State1d& s) { return {s.rho, Vec3(s.u, 0.0, 0.0), s.p}; }
 constexpr double q_dif = 1.0;
@@ -76,10 +75,10 @@ SodResult run_riemann(const RiemannCase& rc, int nx) {
                                         {"sides", BoundaryKind::symmetry, {}, {}}};
   FluidModel model(std::move(mesh), options, bcs);
   model.set_state([&](const Vec3& x) {
-    const State1d s = x.x() < 0.5 - 1e-12 ? rc.left
+    const State1d s = x.x() < 0.5 - 1e-12   ? rc.left
                       : x.x() > 0.5 + 1e-12 ? rc.right
-                      : State1d{0.5 * (rc.left.rho + rc.right.rho), 0.5 * (rc.left.u + rc.right.u),
-                                0.5 * (rc.left.p + rc.right.p)};
+                                            : State1d{0.5 * (rc.left.rho + rc.right.rho),
+                                                      0.5 * (rc.left.u + rc.right.u), 0.5 * (rc.left.p + rc.right.p)};
     return Primitive{s.rho, Vec3(s.u, 0.0, 0.0), s.p};
   });
   test_support::run_until(model, rc.t_end, cfl);
@@ -102,8 +101,7 @@ SodResult run_riemann(const RiemannCase& rc, int nx) {
     }
     // Exact p <= p* right of the rarefaction tail (plateau and the undisturbed gas), so
     // any excess there is an overshoot of the scheme.
-    if (x > rc.plateau_lo)
-      r.max_overshoot = std::max(r.max_overshoot, (prof.p[i] - exact.p_star()) / exact.p_star());
+    if (x > rc.plateau_lo) r.max_overshoot = std::max(r.max_overshoot, (prof.p[i] - exact.p_star()) / exact.p_star());
   }
   r.plateau_p = plateau / n_plateau;
   // Shock: rightmost crossing of the mean of the densities on both sides.
@@ -149,17 +147,18 @@ std::vector<double> convergence_study(const char* name, const RiemannCase& rc) {
   for (const int nx : resolutions) {
     const auto r = run_riemann(rc, nx);
     l1.push_back(r.l1_rho);
-    std::printf("%s Nx=%d: L1(rho)=%.5f  plateau p=%.5f (%.3f%%)  shock x=%.5f (%.2f h)  "
-                "max p overshoot %.2f%%\n",
-                name, nx, r.l1_rho, r.plateau_p, 100 * (r.plateau_p / exact.p_star() - 1),
-                r.shock_x, (r.shock_x - shock_exact) / r.h, 100 * r.max_overshoot);
+    std::printf(
+        "%s Nx=%d: L1(rho)=%.5f  plateau p=%.5f (%.3f%%)  shock x=%.5f (%.2f h)  "
+        "max p overshoot %.2f%%\n",
+        name, nx, r.l1_rho, r.plateau_p, 100 * (r.plateau_p / exact.p_star() - 1), r.shock_x,
+        (r.shock_x - shock_exact) / r.h, 100 * r.max_overshoot);
     EXPECT_LT(std::abs(r.plateau_p / exact.p_star() - 1), 0.02) << name << " Nx = " << nx;
     EXPECT_LT(std::abs(r.shock_x - shock_exact), 2 * r.h) << name << " Nx = " << nx;
     EXPECT_LT(r.max_overshoot, 0.10) << name << " Nx = " << nx;
   }
   for (std::size_t i = 1; i < l1.size(); ++i)
-    std::printf("%s observed L1 order %d -> %d: %.3f\n", name, resolutions[i - 1],
-                resolutions[i], std::log2(l1[i - 1] / l1[i]));
+    std::printf("%s observed L1 order %d -> %d: %.3f\n", name, resolutions[i - 1], resolutions[i],
+                std::log2(l1[i - 1] / l1[i]));
   return l1;
 }
 

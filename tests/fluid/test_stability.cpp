@@ -45,8 +45,10 @@ TEST(Stability, AcousticPulseIsStableAtCfl09AndNotAtCfl10) {
   const double stable = pulse_amplitude(0.9, 400, Vec3::Zero());
   const double unstable = pulse_amplitude(1.0, 400, Vec3::Zero());
   const double with_flow = pulse_amplitude(0.9, 400, Vec3(0.5, 0.3, 0.2));
-  std::printf("pulse amplitude after 400 steps: CFL 0.9 %.3e, CFL 1.0 %.3e, CFL 0.9 with flow "
-              "%.3e (initial 1e-2)\n", stable, unstable, with_flow);
+  std::printf(
+      "pulse amplitude after 400 steps: CFL 0.9 %.3e, CFL 1.0 %.3e, CFL 0.9 with flow "
+      "%.3e (initial 1e-2)\n",
+      stable, unstable, with_flow);
   EXPECT_LT(stable, 0.01);
   EXPECT_LT(with_flow, 0.01);
   EXPECT_FALSE(unstable < 0.01);

@@ -17,9 +17,9 @@
 #include <vector>
 
 #include "fluid_test_util.h"
-#include "support/box_mesh.h"
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/viscous.h"
+#include "support/box_mesh.h"
 
 using namespace shellflow;
 using namespace shellflow::fluid;
@@ -39,9 +39,7 @@ struct PeriodicTie {
 
   PeriodicTie(const mesh::Mesh& m, double length) {
     std::map<std::pair<long, long>, Index> at_zero;
-    auto key = [](const Vec3& x) {
-      return std::make_pair(std::lround(x.y() * 1e9), std::lround(x.z() * 1e9));
-    };
+    auto key = [](const Vec3& x) { return std::make_pair(std::lround(x.y() * 1e9), std::lround(x.z() * 1e9)); };
     for (Index a = 0; a < m.num_nodes(); ++a)
       if (std::abs(m.nodes[std::size_t(a)].x()) < 1e-12) at_zero[key(m.nodes[std::size_t(a)])] = a;
     for (Index b = 0; b < m.num_nodes(); ++b)
@@ -86,8 +84,7 @@ IdealGas viscous_gas(double mu) {
   return IdealGas(gamma_air, 1.0, v);
 }
 
-ElementLoop single_block_loop(const std::vector<Index>& tets, std::vector<Index>& blocks,
-                              std::vector<Index>& colours) {
+ElementLoop single_block_loop(const std::vector<Index>& tets, std::vector<Index>& blocks, std::vector<Index>& colours) {
   blocks = {0, Index(tets.size() / 4)};
   colours = {0, 1};
   return {tets, blocks, colours};
@@ -101,8 +98,7 @@ ElementLoop single_block_loop(const std::vector<Index>& tets, std::vector<Index>
 TEST(ViscousFlux, LinearVelocityAndTemperatureGiveTheExactStressAndHeatFlux) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> r(-1.0, 1.0);
-  const std::vector<Vec3> x = {Vec3(0.1, 0.0, 0.2), Vec3(1.2, 0.1, -0.1), Vec3(0.3, 0.9, 0.1),
-                               Vec3(0.2, 0.3, 1.1)};
+  const std::vector<Vec3> x = {Vec3(0.1, 0.0, 0.2), Vec3(1.2, 0.1, -0.1), Vec3(0.3, 0.9, 0.1), Vec3(0.2, 0.3, 1.1)};
   TetGeometry g;
   const std::vector<Index> tet = {0, 1, 2, 3};
   compute_geometry(x, tet, g);
@@ -165,8 +161,7 @@ TEST(ViscousFlux, ResidualOfALinearFieldIsZeroInMomentumAndTheDissipationInEnerg
   std::vector<Index> blocks, colours;
   const double dt = 0.01;
   NodalVelocityTemperature work;
-  add_viscous_residual(gas, dt, {}, single_block_loop(m.cells.connectivity, blocks, colours), g,
-                       u, res, work);
+  add_viscous_residual(gas, dt, {}, single_block_loop(m.cells.connectivity, blocks, colours), g, u, res, work);
   const Mat3 tau = 0.8 * (G + G.transpose() - 2.0 / 3.0 * G.trace() * Mat3::Identity());
   const double dissipation = (tau.array() * G.array()).sum();
   int interior = 0;
@@ -177,10 +172,8 @@ TEST(ViscousFlux, ResidualOfALinearFieldIsZeroInMomentumAndTheDissipationInEnerg
     const double scale = dt * g.lumped_mass[std::size_t(a)];
     EXPECT_EQ(res.var[0][std::size_t(a)], 0.0);
     for (int i = 1; i <= 3; ++i)
-      EXPECT_LT(std::abs(res.var[std::size_t(i)][std::size_t(a)]) / scale, 1e-12 * tau.norm())
-          << "node " << a;
-    EXPECT_NEAR(res.var[4][std::size_t(a)] / scale, dissipation, 1e-12 * std::abs(dissipation))
-        << "node " << a;
+      EXPECT_LT(std::abs(res.var[std::size_t(i)][std::size_t(a)]) / scale, 1e-12 * tau.norm()) << "node " << a;
+    EXPECT_NEAR(res.var[4][std::size_t(a)] / scale, dissipation, 1e-12 * std::abs(dissipation)) << "node " << a;
   }
   EXPECT_EQ(interior, 27);
   // Local time steps scale each node's rows by its own step.
@@ -188,8 +181,7 @@ TEST(ViscousFlux, ResidualOfALinearFieldIsZeroInMomentumAndTheDissipationInEnerg
   for (std::size_t a = 0; a < nodal_dt.size(); ++a) nodal_dt[a] = 0.001 * double(1 + a % 7);
   FluidState local;
   local.resize(m.num_nodes());
-  add_viscous_residual(gas, dt, nodal_dt, single_block_loop(m.cells.connectivity, blocks, colours),
-                       g, u, local, work);
+  add_viscous_residual(gas, dt, nodal_dt, single_block_loop(m.cells.connectivity, blocks, colours), g, u, local, work);
   for (Index a = 0; a < m.num_nodes(); ++a)
     for (int v = 1; v < 5; ++v)
       EXPECT_NEAR(local.var[std::size_t(v)][std::size_t(a)],
@@ -206,14 +198,14 @@ constexpr double couette_u = 0.3;   // wall speed, Mach 0.3
 constexpr double couette_mu = 0.1;  // Re = rho U H / mu = 3
 
 struct CouetteResult {
-  double u_error;      // max |u_x - U y| / U
-  double t_error;      // max |T - T_exact| / (Pr U^2 / (2 c_p)), the viscous heating scale
-  double cross_flow;   // max (|u_y|, |u_z|) / U
-  double shear_bottom; // mean nodal wall shear from wall_traction, / (mu U / H)
+  double u_error;       // max |u_x - U y| / U
+  double t_error;       // max |T - T_exact| / (Pr U^2 / (2 c_p)), the viscous heating scale
+  double cross_flow;    // max (|u_y|, |u_z|) / U
+  double shear_bottom;  // mean nodal wall shear from wall_traction, / (mu U / H)
   double shear_top;
-  double force_bottom; // viscous_force("bottom").x / (mu U / H * area)
+  double force_bottom;     // viscous_force("bottom").x / (mu U / H * area)
   double pressure_spread;  // (max p - min p) / mean p
-  double rate;         // final density_rate
+  double rate;             // final density_rate
   int steps;
 };
 
@@ -245,11 +237,9 @@ CouetteResult couette(int ny, bool bottom_isothermal, double t_end) {
   for (Index a = 0; a < model.mesh().num_nodes(); ++a) {
     const Primitive s = model.primitive(a);
     const double y = model.positions()[std::size_t(a)].y();
-    const double t_exact = bottom_isothermal ? t0 + 2 * heating * (y - y * y / 2)
-                                             : t0 + heating * (1 - y * y);
+    const double t_exact = bottom_isothermal ? t0 + 2 * heating * (y - y * y / 2) : t0 + heating * (1 - y * y);
     r.u_error = std::max(r.u_error, std::abs(s.velocity.x() - couette_u * y) / couette_u);
-    r.cross_flow = std::max({r.cross_flow, std::abs(s.velocity.y()) / couette_u,
-                             std::abs(s.velocity.z()) / couette_u});
+    r.cross_flow = std::max({r.cross_flow, std::abs(s.velocity.y()) / couette_u, std::abs(s.velocity.z()) / couette_u});
     r.t_error = std::max(r.t_error, std::abs(gas.temperature(s.rho, s.pressure) - t_exact) / heating);
     p_min = std::min(p_min, s.pressure);
     p_max = std::max(p_max, s.pressure);
@@ -272,11 +262,12 @@ CouetteResult couette(int ny, bool bottom_isothermal, double t_end) {
 }
 
 void print(const char* name, int ny, const CouetteResult& r) {
-  std::printf("%s ny=%d: %d steps, |u err|/U %.2e, |T err|/dT_heat %.2e, cross flow %.1e, "
-              "wall shear bottom %.9f top %.9f (of mu U/H), force %.9f, p spread %.1e, "
-              "d(rho)/dt %.1e\n",
-              name, ny, r.steps, r.u_error, r.t_error, r.cross_flow, r.shear_bottom, r.shear_top,
-              r.force_bottom, r.pressure_spread, r.rate);
+  std::printf(
+      "%s ny=%d: %d steps, |u err|/U %.2e, |T err|/dT_heat %.2e, cross flow %.1e, "
+      "wall shear bottom %.9f top %.9f (of mu U/H), force %.9f, p spread %.1e, "
+      "d(rho)/dt %.1e\n",
+      name, ny, r.steps, r.u_error, r.t_error, r.cross_flow, r.shear_bottom, r.shear_top, r.force_bottom,
+      r.pressure_spread, r.rate);
 }
 
 }  // namespace
@@ -293,8 +284,8 @@ TEST(Couette, AdiabaticFixedWallIsothermalMovingWallGivesTheLinearProfileAndVisc
     EXPECT_LT(r.rate, 1e-9);  // steady
     EXPECT_LT(r.u_error, 1e-8);
     EXPECT_LT(r.cross_flow, 1e-8);
-    EXPECT_NEAR(r.shear_bottom, 1.0, 1e-7);   // the gas drags the fixed wall along +x
-    EXPECT_NEAR(r.shear_top, -1.0, 1e-7);     // and holds the moving one back
+    EXPECT_NEAR(r.shear_bottom, 1.0, 1e-7);  // the gas drags the fixed wall along +x
+    EXPECT_NEAR(r.shear_top, -1.0, 1e-7);    // and holds the moving one back
     EXPECT_NEAR(r.force_bottom, 1.0, 1e-7);
     EXPECT_LT(r.pressure_spread, 1e-8);
   }
@@ -332,9 +323,7 @@ TEST(Couette, StaysSteadyOnAnOscillatingMesh) {
                     BoundaryCondition::no_slip(
                         "top", [](Index, const Vec3&, double) { return Vec3(couette_u, 0, 0); }, t0),
                     {"sides", BoundaryKind::symmetry, {}, {}}});
-  model.set_state([&](const Vec3& x) {
-    return Primitive{p0 / exact_t(x.y()), Vec3(couette_u * x.y(), 0, 0), p0};
-  });
+  model.set_state([&](const Vec3& x) { return Primitive{p0 / exact_t(x.y()), Vec3(couette_u * x.y(), 0, 0), p0}; });
   const std::vector<Vec3> X(model.positions().begin(), model.positions().end());
   std::vector<Vec3> x(X.size());
   const double a = 0.02, period = 2.0;
@@ -357,9 +346,10 @@ TEST(Couette, StaysSteadyOnAnOscillatingMesh) {
   const WallTraction w = model.wall_traction("bottom");
   double shear = 0;
   for (const auto& q : w.traction) shear += q.x() / (couette_mu * couette_u) / double(w.traction.size());
-  std::printf("Couette on an oscillating mesh ny=%d: max |w| %.3f (U = %.1f), max |u err|/U %.2e, "
-              "max |T err|/dT_heat %.2e, wall shear %.6f of mu U/H after %ld steps\n",
-              ny, max_w, couette_u, u_error, t_error, shear, model.steps());
+  std::printf(
+      "Couette on an oscillating mesh ny=%d: max |w| %.3f (U = %.1f), max |u err|/U %.2e, "
+      "max |T err|/dT_heat %.2e, wall shear %.6f of mu U/H after %ld steps\n",
+      ny, max_w, couette_u, u_error, t_error, shear, model.steps());
   EXPECT_LT(u_error, 5e-4);
   EXPECT_LT(t_error, 3e-3);
   EXPECT_NEAR(shear, 1.0, 1e-3);
@@ -378,9 +368,7 @@ TEST(Couette, SutherlandViscosityBetweenWallsAtDifferentTemperatures) {
   FluidOptions o;
   o.gas = IdealGas(gamma_air, 1.0, v);
   const double t1 = 2 * t0, U = couette_u;
-  const auto t_of_u = [&](double u) {
-    return t0 + (t1 - t0) * u / U + 0.72 / (2 * o.gas.cp()) * u * (U - u);
-  };
+  const auto t_of_u = [&](double u) { return t0 + (t1 - t0) * u / U + 0.72 / (2 * o.gas.cp()) * u * (U - u); };
   const auto integral_mu = [&](double u) {  // Simpson, 2000 intervals
     const int n = 2000;
     double sum = 0;
@@ -390,7 +378,7 @@ TEST(Couette, SutherlandViscosityBetweenWallsAtDifferentTemperatures) {
     }
     return sum * u / (3 * n);
   };
-  const double tau = integral_mu(U);  // H = 1
+  const double tau = integral_mu(U);   // H = 1
   const auto u_of_y = [&](double y) {  // bisection on int_0^u mu = tau y
     double lo = 0, hi = U;
     for (int k = 0; k < 60; ++k) {
@@ -399,8 +387,8 @@ TEST(Couette, SutherlandViscosityBetweenWallsAtDifferentTemperatures) {
     }
     return 0.5 * (lo + hi);
   };
-  std::printf("Sutherland Couette: mu(T1)/mu(T0) = %.3f, tau / (mu(T0) U / H) = %.4f\n",
-              v.dynamic(t1) / v.dynamic(t0), tau / (v.dynamic(t0) * U));
+  std::printf("Sutherland Couette: mu(T1)/mu(T0) = %.3f, tau / (mu(T0) U / H) = %.4f\n", v.dynamic(t1) / v.dynamic(t0),
+              tau / (v.dynamic(t0) * U));
   std::vector<double> u_errors, force_errors;
   for (const int ny : {8, 16}) {
     auto mesh = channel(ny);
@@ -429,9 +417,10 @@ TEST(Couette, SutherlandViscosityBetweenWallsAtDifferentTemperatures) {
     double shear = 0;
     for (const auto& q : w.traction) shear += q.x() / tau / double(w.traction.size());
     const double force = model.viscous_force("bottom").x() * ny * ny / tau;
-    std::printf("Sutherland Couette ny=%d: |u - u(y)|/U %.2e, |T - T(u)|/(T1 - T0) %.2e, wall "
-                "shear %.5f, force %.5f of the exact, d(rho)/dt %.1e\n",
-                ny, u_error, t_error, shear, force, model.density_rate());
+    std::printf(
+        "Sutherland Couette ny=%d: |u - u(y)|/U %.2e, |T - T(u)|/(T1 - T0) %.2e, wall "
+        "shear %.5f, force %.5f of the exact, d(rho)/dt %.1e\n",
+        ny, u_error, t_error, shear, force, model.density_rate());
     u_errors.push_back(u_error);
     force_errors.push_back(std::abs(force - 1));
     EXPECT_LT(model.density_rate(), 1e-6);
@@ -453,9 +442,9 @@ TEST(Couette, SutherlandViscosityBetweenWallsAtDifferentTemperatures) {
 namespace {
 
 struct ShearWave {
-  double amplitude;      // projection of u_x on sin(pi y), / A
-  double discrete;       // (1 - lambda_h dt)^n: the exact discrete (lumped P1, Euler) value
-  double shape_error;    // max |u_x - amplitude sin(pi y)| / A
+  double amplitude;    // projection of u_x on sin(pi y), / A
+  double discrete;     // (1 - lambda_h dt)^n: the exact discrete (lumped P1, Euler) value
+  double shape_error;  // max |u_x - amplitude sin(pi y)| / A
   int steps;
 };
 
@@ -469,9 +458,7 @@ ShearWave shear_wave(int ny, double t_end, double cfl) {
                    {BoundaryCondition::no_slip("bottom", {}, t0),
                     BoundaryCondition::no_slip("top", {}, t0),
                     {"sides", BoundaryKind::symmetry, {}, {}}});
-  model.set_state([&](const Vec3& x) {
-    return Primitive{1.0, Vec3(A * std::sin(pi * x.y()), 0, 0), p0};
-  });
+  model.set_state([&](const Vec3& x) { return Primitive{1.0, Vec3(A * std::sin(pi * x.y()), 0, 0), p0}; });
   // A fixed step (diffusion-limited), so that the discrete solution is known exactly.
   const double dt0 = model.stable_dt(cfl);
   const int n = int(std::ceil(t_end / dt0));
@@ -506,9 +493,10 @@ TEST(ShearWave, DecaysAsTheDiscreteEigenmodeAndConvergesAtSecondOrderToExpMinusN
   for (const int ny : {8, 16, 32}) {
     const auto w = shear_wave(ny, t_end, 0.5);
     errors.push_back(std::abs(w.amplitude / exact - 1));
-    std::printf("shear wave ny=%d: %d steps, amplitude/exact - 1 = %.3e, vs discrete eigenmode "
-                "%.2e, shape error %.1e\n",
-                ny, w.steps, w.amplitude / exact - 1, w.amplitude / w.discrete - 1, w.shape_error);
+    std::printf(
+        "shear wave ny=%d: %d steps, amplitude/exact - 1 = %.3e, vs discrete eigenmode "
+        "%.2e, shape error %.1e\n",
+        ny, w.steps, w.amplitude / exact - 1, w.amplitude / w.discrete - 1, w.shape_error);
     // The viscous operator is exactly the lumped 1-D P1 Laplacian on this mesh: only the
     // O(A^2) compressible coupling separates the run from the discrete eigenmode.
     EXPECT_NEAR(w.amplitude / w.discrete, 1.0, 1e-6) << "ny " << ny;
@@ -533,8 +521,7 @@ TEST(Sutherland, AirViscosityMatchesTheTabulatedValues) {
   // Viscous Fluid Flow); mu ~ T^{3/2} / (T + S), so mu(4 T_ref) / mu(T_ref) =
   // 8 (T_ref + S) / (4 T_ref + S).
   EXPECT_NEAR(air.dynamic(300.0), 1.846e-5, 0.001e-5);
-  EXPECT_NEAR(air.dynamic(4 * 273.15) / 1.716e-5, 8 * (273.15 + 110.4) / (4 * 273.15 + 110.4),
-              1e-13);
+  EXPECT_NEAR(air.dynamic(4 * 273.15) / 1.716e-5, 8 * (273.15 + 110.4) / (4 * 273.15 + 110.4), 1e-13);
   const IdealGas gas(1.4, 287.05, air);
   EXPECT_NEAR(gas.conductivity(1.846e-5), 1.846e-5 * 1004.675 / 0.72, 1e-9);  // ~0.0258 W/(m K)
   Viscosity euler;
@@ -554,7 +541,8 @@ double max_relative_deviation(const FluidModel& model) {
   for (Index a = 0; a < model.mesh().num_nodes(); ++a) {
     const Conservative s = model.state().get(a);
     worst = std::max(worst, std::sqrt(std::pow(s.rho - q.rho, 2) + (s.momentum - q.momentum).squaredNorm() +
-                                      std::pow(s.energy - q.energy, 2)) / scale);
+                                      std::pow(s.energy - q.energy, 2)) /
+                                scale);
   }
   return worst;
 }
@@ -583,8 +571,7 @@ TEST(ViscousFreeStream, StaysExactlyUniformOnAFixedMesh) {
     model.step(model.stable_dt(0.5));
     worst = std::max(worst, max_relative_deviation(model));
   }
-  std::printf("viscous free stream, fixed mesh: max deviation %.3e after %ld steps\n", worst,
-              model.steps());
+  std::printf("viscous free stream, fixed mesh: max deviation %.3e after %ld steps\n", worst, model.steps());
   EXPECT_LE(worst, 1e-12);
 }
 
@@ -602,8 +589,7 @@ TEST(ViscousFreeStream, StaysExactlyUniformWithRandomMeshVelocities) {
     model.step(model.stable_dt(0.5), x, w);
     worst = std::max(worst, max_relative_deviation(model));
   }
-  std::printf("viscous free stream, random w: max deviation %.3e after %ld steps\n", worst,
-              model.steps());
+  std::printf("viscous free stream, random w: max deviation %.3e after %ld steps\n", worst, model.steps());
   EXPECT_LE(worst, 1e-12);
 }
 
@@ -678,8 +664,7 @@ TEST(ViscousStability, DiffusionLimitedStepIsStableAtCfl09FromDiffusionToAcousti
       if (x.minCoeff() > 1e-9 && x.maxCoeff() < 1 - 1e-9) x += Vec3(jitter(rng), jitter(rng), jitter(rng));
     FluidModel model(std::move(m), o, {BoundaryCondition::no_slip("wall", {}, t0)});
     model.set_state([&](const Vec3&) {
-      return Primitive{1.0 + 0.01 * r(rng), 0.01 * Vec3(r(rng), r(rng), r(rng)),
-                       p0 * (1 + 0.01 * r(rng))};
+      return Primitive{1.0 + 0.01 * r(rng), 0.01 * Vec3(r(rng), r(rng), r(rng)), p0 * (1 + 0.01 * r(rng))};
     });
     auto max_speed = [&] {
       double v = 0;
@@ -691,9 +676,7 @@ TEST(ViscousStability, DiffusionLimitedStepIsStableAtCfl09FromDiffusionToAcousti
       model.step(model.stable_dt(0.9));
       if (n == 10) early = max_speed();
     }
-    std::printf("stability mu = %.3f, CFL 0.9: max |u| %.3e after 10 steps, %.3e after 1500\n",
-                mu, early, max_speed());
+    std::printf("stability mu = %.3f, CFL 0.9: max |u| %.3e after 10 steps, %.3e after 1500\n", mu, early, max_speed());
     EXPECT_LT(max_speed(), 0.1 * early) << "mu " << mu;
   }
 }
-

@@ -1,5 +1,11 @@
 #pragma once
 // Helpers shared by the io tests: a scratch directory and running a Python checker script.
+#include <gmsh.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -7,12 +13,6 @@
 #include <sstream>
 #include <string>
 #include <vector>
-
-#include <gmsh.h>
-#include <spdlog/sinks/ostream_sink.h>
-#include <spdlog/spdlog.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 namespace shellflow::io::test {
 
@@ -22,8 +22,7 @@ class TempDir {
   explicit TempDir(const std::string& tag) {
     static int counter = 0;
     path_ = std::filesystem::temp_directory_path() /
-            ("shellflow-io-" + tag + "-" + std::to_string(::getpid()) + "-" +
-             std::to_string(counter++));
+            ("shellflow-io-" + tag + "-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
     std::filesystem::remove_all(path_);
     std::filesystem::create_directories(path_);
   }
@@ -60,8 +59,8 @@ inline std::string shell_quote(const std::string& s) {
 /// Runs `SHELLFLOW_PYTHON <tests/io/data/script> args...` and returns its exit code and
 /// output. The checker scripts exit non-zero and say why on any mismatch.
 inline ProcessResult run_python(const std::string& script, const std::vector<std::string>& args) {
-  std::string cmd = shell_quote(SHELLFLOW_PYTHON) + " " +
-                    shell_quote(std::string(SHELLFLOW_TEST_DATA_DIR) + "/" + script);
+  std::string cmd =
+      shell_quote(SHELLFLOW_PYTHON) + " " + shell_quote(std::string(SHELLFLOW_TEST_DATA_DIR) + "/" + script);
   for (const auto& a : args) {
     cmd += ' ';
     cmd += shell_quote(a);
@@ -96,8 +95,7 @@ inline std::vector<double> gmsh_api_reference_nodes(int type) {
   std::string name;
   int dim = 0, order = 0, num_nodes = 0, num_primary = 0;
   std::vector<double> local;
-  gmsh::model::mesh::getElementProperties(type, name, dim, order, num_nodes, local,
-                                          num_primary);
+  gmsh::model::mesh::getElementProperties(type, name, dim, order, num_nodes, local, num_primary);
   std::vector<double> out(3 * static_cast<std::size_t>(num_nodes), 0.0);
   for (std::size_t i = 0; i < static_cast<std::size_t>(num_nodes); ++i) {
     for (std::size_t a = 0; a < static_cast<std::size_t>(dim); ++a) {

@@ -3,6 +3,7 @@
 // message; the two newest checkpoints are kept; the case digests name the section that
 // changed; a restored CSV or PVD continues as if the run had not stopped.
 #include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +13,6 @@
 #include <string>
 #include <tuple>
 #include <vector>
-
-#include <yaml-cpp/yaml.h>
 
 #include "io_test_util.h"
 #include "shellflow/core/archive.h"
@@ -241,7 +240,8 @@ TEST(ProbeWriterCheckpoint, ARestoredWriterCutsTheLaterRowsAndContinues) {
   const std::string uninterrupted = [&] {
     TempDir other("csv-straight");
     ProbeWriter w(other / "probes.csv", {"a", "b"});
-    for (auto [t, a, b] : {std::tuple{0.0, 1, 2}, {0.1, 3, 4}, {0.2, 7, 8}}) w.append(t, std::vector<double>{double(a), double(b)});
+    for (auto [t, a, b] : {std::tuple{0.0, 1, 2}, {0.1, 3, 4}, {0.2, 7, 8}})
+      w.append(t, std::vector<double>{double(a), double(b)});
     return read_all(other / "probes.csv");
   }();
   ProbeWriter resumed(file, {"a", "b"}, OutputMode::resume);

@@ -3,12 +3,11 @@
 // outside the mesh or off the surface are InputErrors at the probe's line.
 #include <gtest/gtest.h>
 
-#include <fstream>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -28,9 +27,8 @@ Vec3 linear_vector(const Vec3& x) { return {x.x(), 2.0 * x.y(), x.z() + 1.0}; }
 /// Unit cube as 6 positively oriented tetrahedra (Kuhn: around the diagonal 0-7; the tests'
 /// box), node i at (i & 1, (i >> 1) & 1, (i >> 2) & 1); group "bottom" = the face z = 0.
 mesh::Mesh unit_cube() {
-  mesh::Mesh m = support::box_mesh({1, 1, 1}, Vec3(1, 1, 1), [](const Vec3& c) {
-    return c.z() == 0.0 ? std::string("bottom") : std::string();
-  });
+  mesh::Mesh m = support::box_mesh({1, 1, 1}, Vec3(1, 1, 1),
+                                   [](const Vec3& c) { return c.z() == 0.0 ? std::string("bottom") : std::string(); });
   m.name = "fluid";
   m.source = "unit cube (test)";
   for (std::size_t i = 0; i < m.nodes.size(); ++i) m.node_tags.push_back(i + 1);
@@ -49,8 +47,8 @@ mesh::Mesh flat_shell() {
   return m;
 }
 
-Probe point_probe(const std::string& name, const std::string& mesh, const std::string& quantity,
-                  const Vec3& p, ProbeComponent component, int line) {
+Probe point_probe(const std::string& name, const std::string& mesh, const std::string& quantity, const Vec3& p,
+                  ProbeComponent component, int line) {
   Probe probe;
   probe.name = name;
   probe.mesh = mesh;
@@ -94,7 +92,8 @@ TEST(ProbeSet, ManyPointProbesInOneMeshSampleALinearFieldExactly) {
     const Vec3 p(0.05 + 0.45 * (i % 3), 0.1 + 0.4 * ((i / 3) % 3), 0.02 + 0.48 * (i / 9));
     probes.push_back(point_probe("p" + std::to_string(i), "fluid", "pressure", p, ProbeComponent::scalar, i + 1));
     expected.push_back(linear_field(p));
-    probes.push_back(point_probe("speed" + std::to_string(i), "fluid", "velocity", p, ProbeComponent::magnitude, i + 1));
+    probes.push_back(
+        point_probe("speed" + std::to_string(i), "fluid", "velocity", p, ProbeComponent::magnitude, i + 1));
     expected.push_back(linear_vector(p).norm());
   }
   probes.push_back(point_probe("corner", "fluid", "pressure", Vec3(1, 1, 1), ProbeComponent::scalar, 60));
@@ -102,8 +101,8 @@ TEST(ProbeSet, ManyPointProbesInOneMeshSampleALinearFieldExactly) {
   probes.push_back(point_probe("vy", "fluid", "velocity", Vec3(0.3, 0.7, 0.2), ProbeComponent::y, 61));
   expected.push_back(1.4);
   for (const Vec3& p : {Vec3(0.3, 0.2, 0.5), Vec3(1.7, 0.9, 0.5), Vec3(1.0, 0.5, 0.5), Vec3(2.0, 1.0, 0.5)}) {
-    probes.push_back(point_probe("w" + std::to_string(probes.size()), "shell", "displacement", p,
-                                 ProbeComponent::scalar, 70));
+    probes.push_back(
+        point_probe("w" + std::to_string(probes.size()), "shell", "displacement", p, ProbeComponent::scalar, 70));
     expected.push_back(linear_field(p));
   }
   Probe group;

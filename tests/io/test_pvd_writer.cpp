@@ -40,7 +40,7 @@ std::vector<DataSet> read_pvd(const std::filesystem::path& pvd) {
       std::string time_text, group;
       DataSet d{};
       in >> time_text >> d.part >> group;
-      std::getline(in >> std::ws, d.file);  // the rest of the line: paths may hold spaces
+      std::getline(in >> std::ws, d.file);               // the rest of the line: paths may hold spaces
       d.time = std::strtod(time_text.c_str(), nullptr);  // Python's repr round-trips
       d.group = group.substr(1, group.size() - 2);
       out.push_back(d);

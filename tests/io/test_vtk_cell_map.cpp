@@ -8,9 +8,9 @@
 #include <numeric>
 #include <vector>
 
+#include "io_test_util.h"
 #include "shellflow/core/error.h"
 #include "shellflow/io/vtu_writer.h"
-#include "io_test_util.h"
 
 namespace shellflow::io {
 namespace {
@@ -42,8 +42,7 @@ std::vector<std::array<double, 3>> vtk_rule(int dim, int p) {
   std::vector<Point> out(v.begin(), v.begin() + dim + 1);
   const std::vector<Edge> edges = dim == 1   ? std::vector<Edge>{{0, 1}}
                                   : dim == 2 ? std::vector<Edge>{{0, 1}, {1, 2}, {2, 0}}
-                                  : dim == 3 ? std::vector<Edge>{{0, 1}, {1, 2}, {2, 0},
-                                                                 {0, 3}, {1, 3}, {2, 3}}
+                                  : dim == 3 ? std::vector<Edge>{{0, 1}, {1, 2}, {2, 0}, {0, 3}, {1, 3}, {2, 3}}
                                              : std::vector<Edge>{};
   for (const auto& e : edges) {
     for (int k = 1; k < p; ++k) {
@@ -55,8 +54,7 @@ std::vector<std::array<double, 3>> vtk_rule(int dim, int p) {
   }
   if (p == 3 && dim == 2) out.push_back({1.0 / 3, 1.0 / 3, 0});
   if (p == 3 && dim == 3) {
-    const std::array<std::array<std::size_t, 3>, 4> faces = {
-        {{0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {0, 2, 1}}};
+    const std::array<std::array<std::size_t, 3>, 4> faces = {{{0, 1, 3}, {1, 2, 3}, {2, 0, 3}, {0, 2, 1}}};
     for (const auto& f : faces) {
       Point x{};
       for (std::size_t a = 0; a < 3; ++a) x[a] = (v[f[0]][a] + v[f[1]][a] + v[f[2]][a]) / 3.0;
@@ -70,9 +68,8 @@ TEST(VtkCellMap, VtkReferenceNodesFollowVtkOrdering) {
   struct Case {
     int gmsh_type, dim, order;
   };
-  for (const Case c : {Case{15, 0, 0}, Case{1, 1, 1}, Case{8, 1, 2}, Case{26, 1, 3},
-                       Case{2, 2, 1}, Case{9, 2, 2}, Case{21, 2, 3}, Case{4, 3, 1},
-                       Case{11, 3, 2}, Case{29, 3, 3}}) {
+  for (const Case c : {Case{15, 0, 0}, Case{1, 1, 1}, Case{8, 1, 2}, Case{26, 1, 3}, Case{2, 2, 1}, Case{9, 2, 2},
+                       Case{21, 2, 3}, Case{4, 3, 1}, Case{11, 3, 2}, Case{29, 3, 3}}) {
     SCOPED_TRACE("Gmsh type " + std::to_string(c.gmsh_type));
     const auto expected = vtk_rule(c.dim, c.order);
     const auto ref = vtk_reference_nodes(c.gmsh_type);
@@ -123,14 +120,12 @@ TEST(VtkCellMap, KnownPermutations) {
     EXPECT_EQ(perm(type), identity(gmsh_nodes_per_cell(type))) << "Gmsh type " << type;
   }
   EXPECT_EQ(perm(11), (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 9, 8}));
-  EXPECT_EQ(perm(29), (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 10, 15, 14, 13, 12,
-                                        17, 19, 18, 16}));
+  EXPECT_EQ(perm(29), (std::vector<int>{0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 11, 10, 15, 14, 13, 12, 17, 19, 18, 16}));
 }
 
 TEST(VtkCellMap, VtkCellTypes) {
-  const std::vector<std::pair<int, int>> expected = {{15, 1},  {1, 3},   {8, 21},  {26, 68},
-                                                     {2, 5},   {9, 22},  {21, 69}, {4, 10},
-                                                     {11, 24}, {29, 71}};
+  const std::vector<std::pair<int, int>> expected = {{15, 1}, {1, 3},   {8, 21}, {26, 68}, {2, 5},
+                                                     {9, 22}, {21, 69}, {4, 10}, {11, 24}, {29, 71}};
   for (const auto& [gmsh, vtk] : expected) {
     EXPECT_TRUE(is_vtu_supported_type(gmsh));
     EXPECT_EQ(vtk_cell_type(gmsh), vtk) << "Gmsh type " << gmsh;

@@ -80,10 +80,7 @@ struct TestMesh {
     VtuGrid g;
     g.points = flat(points);
     for (std::size_t c = 0; c < types.size(); ++c) g.cells.push_back({types[c], connectivity[c]});
-    g.point_fields = {{"pressure", 1, pressure},
-                      {"velocity", 3, velocity},
-                      {"pair", 2, pair},
-                      {kOddName, 1, odd}};
+    g.point_fields = {{"pressure", 1, pressure}, {"velocity", 3, velocity}, {"pair", 2, pair}, {kOddName, 1, odd}};
     g.cell_fields = {{"cell id", 1, cell_id}, {"cell vec", 3, cell_vec}};
     g.time = 0.1;
     return g;

@@ -59,9 +59,7 @@ fs::path geo_with(const fs::path& dir, const std::string& name, const std::strin
   return geo;
 }
 
-int line_count(const std::string& s) {
-  return static_cast<int>(std::count(s.begin(), s.end(), '\n'));
-}
+int line_count(const std::string& s) { return static_cast<int>(std::count(s.begin(), s.end(), '\n')); }
 
 /// A good .msh 4.1 of the panel strip (cubic triangles), written by Gmsh.
 const std::string& good_msh() {
@@ -102,14 +100,11 @@ TEST(GeoScan, ShellCommandsAreRefusedAndRunNothing) {
   const int line = line_count(panel_geo) + 1;
   for (std::string command : {"System", "SystemCall", "NonBlockingSystemCall"}) {
     const fs::path marker = dir / ("INJECTED_" + command);
-    const fs::path geo =
-        geo_with(dir, command + ".geo", command + " \"touch '" + marker.string() + "'\";");
-    for (auto f : std::vector<std::function<void()>>{
-             [&] { physical_group_names(geo); },
-             [&] { generate_mesh(geo, with_order(1), "shell"); }}) {
+    const fs::path geo = geo_with(dir, command + ".geo", command + " \"touch '" + marker.string() + "'\";");
+    for (auto f : std::vector<std::function<void()>>{[&] { physical_group_names(geo); },
+                                                     [&] { generate_mesh(geo, with_order(1), "shell"); }}) {
       const std::string msg = input_error(f);
-      EXPECT_NE(msg.find(geo.string() + ":" + std::to_string(line) + ": Gmsh command '" +
-                         command + "'"),
+      EXPECT_NE(msg.find(geo.string() + ":" + std::to_string(line) + ": Gmsh command '" + command + "'"),
                 std::string::npos)
           << msg;
       EXPECT_NE(msg.find("remove it"), std::string::npos) << msg;
@@ -118,19 +113,16 @@ TEST(GeoScan, ShellCommandsAreRefusedAndRunNothing) {
     EXPECT_FALSE(fs::exists(marker)) << command << " ran";
   }
   const fs::path geo = geo_with(dir, "onelab.geo", "OnelabRun(\"x\", \"touch y\");");
-  EXPECT_NE(input_error([&] { physical_group_names(geo); }).find("'OnelabRun' runs"),
-            std::string::npos);
+  EXPECT_NE(input_error([&] { physical_group_names(geo); }).find("'OnelabRun' runs"), std::string::npos);
 }
 
 TEST(GeoScan, FileWritingCommandsAreRefused) {
   const auto dir = fresh_dir("writes");
   for (std::string extra : {"Save \"out.msh\";", "Print \"out.png\";", "CreateDir \"d\";",
-                            "Printf(\"%g\", 1) > \"out.txt\";", "Printf(\"x\") >> \"out.txt\";",
-                            "Exit;"}) {
+                            "Printf(\"%g\", 1) > \"out.txt\";", "Printf(\"x\") >> \"out.txt\";", "Exit;"}) {
     const fs::path geo = geo_with(dir, "w.geo", extra);
     const std::string msg = input_error([&] { physical_group_names(geo); });
-    EXPECT_NE(msg.find("w.geo:" + std::to_string(line_count(panel_geo) + 1) + ":"),
-              std::string::npos)
+    EXPECT_NE(msg.find("w.geo:" + std::to_string(line_count(panel_geo) + 1) + ":"), std::string::npos)
         << extra << ": " << msg;
   }
   EXPECT_FALSE(fs::exists(dir / "out.msh"));
@@ -158,37 +150,30 @@ TEST(GeoScan, IncludesStayInTheFolderAndAreScanned) {
 
   EXPECT_EQ(physical_group_names(geo_with(sub, "good.geo", "Include \"part.geo\";")).size(), 4u);
 
-  std::string msg = input_error(
-      [&] { physical_group_names(geo_with(sub, "abs.geo", "Include \"/etc/hostname\";")); });
-  EXPECT_NE(msg.find("abs.geo:" + std::to_string(line_count(panel_geo) + 1) + ": 'Include' of "
+  std::string msg = input_error([&] { physical_group_names(geo_with(sub, "abs.geo", "Include \"/etc/hostname\";")); });
+  EXPECT_NE(msg.find("abs.geo:" + std::to_string(line_count(panel_geo) + 1) +
+                     ": 'Include' of "
                      "the absolute path"),
             std::string::npos)
       << msg;
-  msg = input_error(
-      [&] { physical_group_names(geo_with(sub, "up.geo", "Include \"../outside.geo\";")); });
+  msg = input_error([&] { physical_group_names(geo_with(sub, "up.geo", "Include \"../outside.geo\";")); });
   EXPECT_NE(msg.find("leaves the folder"), std::string::npos) << msg;
-  msg = input_error(
-      [&] { physical_group_names(geo_with(sub, "sub.geo", "Include \"./x/../../outside.geo\";")); });
+  msg = input_error([&] { physical_group_names(geo_with(sub, "sub.geo", "Include \"./x/../../outside.geo\";")); });
   EXPECT_NE(msg.find("leaves the folder"), std::string::npos) << msg;
-  msg = input_error(
-      [&] { physical_group_names(geo_with(sub, "merge.geo", "Merge \"../outside.geo\";")); });
+  msg = input_error([&] { physical_group_names(geo_with(sub, "merge.geo", "Merge \"../outside.geo\";")); });
   EXPECT_NE(msg.find("'Merge' of '../outside.geo' leaves the folder"), std::string::npos) << msg;
-  msg = input_error([&] {
-    physical_group_names(geo_with(sub, "expr.geo", "Include StrCat(\"/etc/\", \"passwd\");"));
-  });
+  msg = input_error([&] { physical_group_names(geo_with(sub, "expr.geo", "Include StrCat(\"/etc/\", \"passwd\");")); });
   EXPECT_NE(msg.find("one quoted relative path"), std::string::npos) << msg;
   // The included file is scanned too, and named in the message.
   msg = input_error([&] { physical_group_names(geo_with(sub, "inc.geo", "Include \"evil.geo\";")); });
-  EXPECT_NE(msg.find((sub / "evil.geo").string() + ":2: Gmsh command 'System'"), std::string::npos)
-      << msg;
+  EXPECT_NE(msg.find((sub / "evil.geo").string() + ":2: Gmsh command 'System'"), std::string::npos) << msg;
   EXPECT_FALSE(fs::exists(dir / "INJECTED"));
 }
 
 TEST(GeoScan, TheOptionFileGmshMergesIsScanned) {
   const auto dir = fresh_dir("opt");
   const fs::path geo = geo_with(dir, "s.geo", "");
-  write(dir / "s.geo.opt", "General.Terminal = 0;\nSystem \"touch '" + (dir / "INJECTED").string() +
-                               "'\";\n");
+  write(dir / "s.geo.opt", "General.Terminal = 0;\nSystem \"touch '" + (dir / "INJECTED").string() + "'\";\n");
   const std::string msg = input_error([&] { physical_group_names(geo); });
   EXPECT_NE(msg.find("s.geo.opt:2: Gmsh command 'System'"), std::string::npos) << msg;
   EXPECT_FALSE(fs::exists(dir / "INJECTED"));
@@ -198,9 +183,8 @@ TEST(GeoScan, AStringCannotHideCodeFromIfSkipping) {
   // Gmsh skips a false If block without reading strings: the "EndIf" in the string ends the
   // block for Gmsh, which then runs what the scanner sees as the rest of the string.
   const auto dir = fresh_dir("skip");
-  const fs::path geo = geo_with(dir, "skip.geo",
-                                "If (0)\n \"EndIf\nSystem \"touch '" +
-                                    (dir / "INJECTED").string() + "'\";\n\"\nEndIf");
+  const fs::path geo =
+      geo_with(dir, "skip.geo", "If (0)\n \"EndIf\nSystem \"touch '" + (dir / "INJECTED").string() + "'\";\n\"\nEndIf");
   const std::string msg = input_error([&] { physical_group_names(geo); });
   EXPECT_NE(msg.find("a string holds 'EndIf'"), std::string::npos) << msg;
   EXPECT_FALSE(fs::exists(dir / "INJECTED"));
@@ -210,8 +194,8 @@ TEST(MshCheck, AScriptNamedMshIsNotAMeshAndRunsNothing) {
   const auto dir = fresh_dir("renamed");
   const fs::path msh = dir / "renamed.msh";
   write(msh, panel_geo + "System \"touch '" + (dir / "INJECTED").string() + "'\";\n");
-  for (auto f : std::vector<std::function<void()>>{[&] { physical_group_names(msh); },
-                                                   [&] { read_msh(msh, "shell"); }}) {
+  for (auto f :
+       std::vector<std::function<void()>>{[&] { physical_group_names(msh); }, [&] { read_msh(msh, "shell"); }}) {
     const std::string msg = input_error(f);
     EXPECT_NE(msg.find(msh.string() + ":1: not a Gmsh mesh file"), std::string::npos) << msg;
   }
@@ -225,14 +209,13 @@ TEST(MshCheck, EmptyFileIsReportedAsEmpty) {
   for (const char* name : {"empty.msh", "blank.msh"}) {
     const std::string msg = input_error([&] { physical_group_names(dir / name); });
     EXPECT_NE(msg.find(std::string(name) + ": empty file; "), std::string::npos) << msg;
-    EXPECT_NE(input_error([&] { read_msh(dir / name, "x"); }).find("empty file"),
-              std::string::npos);
+    EXPECT_NE(input_error([&] { read_msh(dir / name, "x"); }).find("empty file"), std::string::npos);
   }
 }
 
 TEST(MshCheck, GoodMeshesPass) {
-  EXPECT_NO_THROW(check_msh_file(fs::path(shellflow::source_dir) / "tests" / "case" / "data" /
-                                 "panel_strip.msh"));  // header only
+  EXPECT_NO_THROW(
+      check_msh_file(fs::path(shellflow::source_dir) / "tests" / "case" / "data" / "panel_strip.msh"));  // header only
   const auto dir = fresh_dir("goodpass");
   write(dir / "strip.msh", good_msh());
   EXPECT_NO_THROW(check_msh_file(dir / "strip.msh"));
@@ -257,25 +240,23 @@ TEST(MshCheck, DamagedFilesAreOneLineErrorsNotCrashes) {
     std::string text, expected;
   };
   const std::vector<Case> cases = {
-      {msh_with_line(names + 2, "99 1 \"bad\""),
-       "damaged $PhysicalNames section (line " + std::to_string(names + 2) +
-           "): a dimension must be in [0, 3], got 99"},
-      {msh_with_line(end_names, "99 1 \"bad\""),
-       "damaged $PhysicalNames section (line " + std::to_string(end_names + 1) +
-           "): expected $EndPhysicalNames, got '$Entities'"},
-      {msh_with_line(end_names, "$EndPhysicalNam"),
-       "damaged $PhysicalNames section (line " + std::to_string(end_names) +
-           "): expected $EndPhysicalNames, got '$EndPhysicalNam'"},
+      {msh_with_line(names + 2, "99 1 \"bad\""), "damaged $PhysicalNames section (line " + std::to_string(names + 2) +
+                                                     "): a dimension must be in [0, 3], got 99"},
+      {msh_with_line(end_names, "99 1 \"bad\""), "damaged $PhysicalNames section (line " +
+                                                     std::to_string(end_names + 1) +
+                                                     "): expected $EndPhysicalNames, got '$Entities'"},
+      {msh_with_line(end_names, "$EndPhysicalNam"), "damaged $PhysicalNames section (line " +
+                                                        std::to_string(end_names) +
+                                                        "): expected $EndPhysicalNames, got '$EndPhysicalNam'"},
       {msh_with_line(end_names, "", true), "damaged $PhysicalNames section"},
-      {msh_with_line(names + 1, "x4"), "damaged $PhysicalNames section (line " +
-                                           std::to_string(names + 1) + "): expected the number"},
+      {msh_with_line(names + 1, "x4"),
+       "damaged $PhysicalNames section (line " + std::to_string(names + 1) + "): expected the number"},
       {msh_with_line(names + 1, "40"), "its first line announces 40"},
       {msh_with_line(names + 2, "1 1 \"leading_edge"), "expected a quoted name"},
       {msh_with_line(nodes + 1, "9 244 1"), "damaged $Nodes section"},
       {msh_with_line(end_nodes, "$EndNode"), "expected $EndNodes, got '$EndNode'"},
-      {msh_with_line(elements + 3, "1 1 2 5 99999"),
-       "damaged $Elements section (line " + std::to_string(elements + 3) +
-           "): element 1 uses node 99999, which $Nodes does not define"},
+      {msh_with_line(elements + 3, "1 1 2 5 99999"), "damaged $Elements section (line " + std::to_string(elements + 3) +
+                                                         "): element 1 uses node 99999, which $Nodes does not define"},
       {msh_with_line(elements + 2, "1 1 77 1"), "unknown element type 77"},
       {good.substr(0, good.size() / 2), "no $End"},
       {msh_with_line(2, "4.1 1 8"), "binary .msh files are not supported"},
@@ -288,8 +269,8 @@ TEST(MshCheck, DamagedFilesAreOneLineErrorsNotCrashes) {
   for (const auto& c : cases) {
     const fs::path msh = dir / ("damaged_" + std::to_string(i++) + ".msh");
     write(msh, c.text);
-    for (auto f : std::vector<std::function<void()>>{[&] { physical_group_names(msh); },
-                                                     [&] { read_msh(msh, "shell"); }}) {
+    for (auto f :
+         std::vector<std::function<void()>>{[&] { physical_group_names(msh); }, [&] { read_msh(msh, "shell"); }}) {
       const std::string msg = input_error(f);
       EXPECT_EQ(msg.rfind(msh.string() + ":", 0), 0u) << msg;
       EXPECT_NE(msg.find(c.expected), std::string::npos) << msh << ": " << msg;

@@ -6,9 +6,9 @@
 #include <fstream>
 #include <set>
 
+#include "mesh_test_util.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/version.h"
-#include "mesh_test_util.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/mesh/quality.h"
 
@@ -35,8 +35,7 @@ std::set<std::string> names(const Mesh& m) {
 TEST(GmshIo, UnitCubeOfEachOrderHasPositiveTetrahedraAndItsGroups) {
   for (int order : {1, 2, 3}) {
     const Mesh mesh = generate_mesh(data_dir / "unit_cube.geo", with_order(order), "cube");
-    const auto expected = order == 1 ? ElementType::tet4
-                          : order == 2 ? ElementType::tet10 : ElementType::tet20;
+    const auto expected = order == 1 ? ElementType::tet4 : order == 2 ? ElementType::tet10 : ElementType::tet20;
     EXPECT_EQ(mesh.cells.type, expected);
     EXPECT_EQ(mesh.dim(), 3);
     EXPECT_EQ(names(mesh), (std::set<std::string>{"bottom", "top", "sides", "cube"}));
@@ -47,8 +46,7 @@ TEST(GmshIo, UnitCubeOfEachOrderHasPositiveTetrahedraAndItsGroups) {
     double volume = 0;
     for (Index e = 0; e < mesh.num_cells(); ++e) {
       const auto v = mesh.cells.element(e);
-      volume += tet_signed_volume(mesh.nodes[v[0]], mesh.nodes[v[1]], mesh.nodes[v[2]],
-                                  mesh.nodes[v[3]]);
+      volume += tet_signed_volume(mesh.nodes[v[0]], mesh.nodes[v[1]], mesh.nodes[v[2]], mesh.nodes[v[3]]);
     }
     EXPECT_NEAR(volume, 1.0, 1e-12);
     // Boundary groups: facets of the right type, nodes on their plane.
@@ -81,14 +79,12 @@ TEST(GmshIo, MeshingKeepsTheOpenMpThreadCount) {
 
 TEST(GmshIo, WrittenMshReadsBackIdentically) {
   const auto msh = temp_dir("roundtrip") / "cube.msh";
-  const Mesh generated = generate_mesh(data_dir / "unit_cube.geo",
-                                       with_order(3, 1.5, msh), "cube");
+  const Mesh generated = generate_mesh(data_dir / "unit_cube.geo", with_order(3, 1.5, msh), "cube");
   const Mesh read = read_msh(msh, "cube");
   ASSERT_EQ(read.nodes.size(), generated.nodes.size());
   EXPECT_EQ(read.cells.type, ElementType::tet20);
   EXPECT_EQ(read.cells.connectivity, generated.cells.connectivity);
-  for (std::size_t i = 0; i < read.nodes.size(); ++i)
-    EXPECT_LT((read.nodes[i] - generated.nodes[i]).norm(), 1e-14);
+  for (std::size_t i = 0; i < read.nodes.size(); ++i) EXPECT_LT((read.nodes[i] - generated.nodes[i]).norm(), 1e-14);
   EXPECT_EQ(names(read), names(generated));
   EXPECT_EQ(read.group("sides").nodes, generated.group("sides").nodes);
 }
@@ -104,8 +100,7 @@ TEST(GmshIo, PanelStripIsFortyCubicTrianglesWith244Nodes) {
   EXPECT_EQ(shell.cells.type, ElementType::tri10);
   EXPECT_EQ(shell.num_cells(), 40);
   EXPECT_EQ(shell.num_nodes(), 244);
-  EXPECT_EQ(names(shell),
-            (std::set<std::string>{"leading_edge", "trailing_edge", "sides", "panel"}));
+  EXPECT_EQ(names(shell), (std::set<std::string>{"leading_edge", "trailing_edge", "sides", "panel"}));
   EXPECT_EQ(shell.group("leading_edge").nodes.size(), 4u);  // one cubic edge
   EXPECT_EQ(shell.group("leading_edge").elements.type, ElementType::line4);
   // Normal of every triangle is +y (into the fluid).
@@ -141,8 +136,7 @@ TEST(GmshIo, BrokenGeoFileIsAnInputErrorNamingTheFile) {
 TEST(GmshIo, PhysicalGroupNamesWithoutMeshing) {
   const auto groups = physical_group_names(panel_dir / "fluid_slab.geo");
   const std::set<std::string> got(groups.begin(), groups.end());
-  EXPECT_EQ(got, (std::set<std::string>{"inflow", "outflow", "far_field", "wall", "panel",
-                                        "symmetry", "fluid"}));
+  EXPECT_EQ(got, (std::set<std::string>{"inflow", "outflow", "far_field", "wall", "panel", "symmetry", "fluid"}));
 }
 
 TEST(GmshIo, MissingGroupErrorListsTheAvailableOnes) {

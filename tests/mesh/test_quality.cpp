@@ -9,8 +9,7 @@ using namespace shellflow::mesh;
 
 namespace {
 // Regular tetrahedron with unit edges, positively oriented.
-const Vec3 a(0, 0, 0), b(1, 0, 0), c(0.5, std::sqrt(3.0) / 2, 0),
-    d(0.5, std::sqrt(3.0) / 6, std::sqrt(2.0 / 3.0));
+const Vec3 a(0, 0, 0), b(1, 0, 0), c(0.5, std::sqrt(3.0) / 2, 0), d(0.5, std::sqrt(3.0) / 6, std::sqrt(2.0 / 3.0));
 }  // namespace
 
 TEST(Quality, RegularTetrahedronHasUnitMeanRatio) {
@@ -19,8 +18,7 @@ TEST(Quality, RegularTetrahedronHasUnitMeanRatio) {
 }
 
 TEST(Quality, MeanRatioIsInvariantUnderScalingAndRigidMotion) {
-  const Eigen::Matrix3d rotation =
-      Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
   const Vec3 shift(3, -1, 2);
   auto map = [&](const Vec3& p) { return Vec3(2.5 * (rotation * p) + shift); };
   const Vec3 e(0.1, 0.2, 0.9);  // a non-regular tetrahedron (a, b, c, e)
@@ -36,8 +34,7 @@ TEST(Quality, InvertedTetrahedronHasNegativeQualityAndDegenerateZero) {
 
 TEST(Quality, EquilateralTriangleHasUnitQuality) {
   EXPECT_NEAR(triangle_quality(a, b, c), 1.0, 1e-14);
-  EXPECT_NEAR(triangle_quality(a, b, Vec3(0.5, 0.1, 0)), 4 * std::sqrt(3.0) * 0.05 / (0.26 * 2 + 1),
-              1e-14);
+  EXPECT_NEAR(triangle_quality(a, b, Vec3(0.5, 0.1, 0)), 4 * std::sqrt(3.0) * 0.05 / (0.26 * 2 + 1), 1e-14);
 }
 
 TEST(Quality, SummaryCountsInvertedCellsAndFindsTheWorst) {

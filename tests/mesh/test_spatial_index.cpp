@@ -26,8 +26,7 @@ TEST(PointIndex, NearestAndRadiusMatchBruteForce) {
   const PointIndex index(points);
   for (const Vec3& q : random_points(200, 2, -0.2, 1.2)) {
     std::vector<std::pair<double, Index>> all;
-    for (Index i = 0; i < static_cast<Index>(points.size()); ++i)
-      all.emplace_back((points[i] - q).norm(), i);
+    for (Index i = 0; i < static_cast<Index>(points.size()); ++i) all.emplace_back((points[i] - q).norm(), i);
     std::sort(all.begin(), all.end());
     const auto hit = index.nearest(q);
     EXPECT_EQ(hit.index, all[0].second);
@@ -115,8 +114,7 @@ TEST(SurfaceLocator, ClosestPointOnCubeBoundaryMatchesBruteForce) {
     EXPECT_NEAR((hit.point - p).norm(), hit.distance, 1e-14);
     // The sides are the planes x = 0, x = 1, y = 0, y = 1 clipped to 0 <= z <= 1.
     const Vec3 q = p.cwiseMax(0.0).cwiseMin(1.0);
-    const double to_planes = std::min({std::abs(q.x()), std::abs(1 - q.x()), std::abs(q.y()),
-                                       std::abs(1 - q.y())});
+    const double to_planes = std::min({std::abs(q.x()), std::abs(1 - q.x()), std::abs(q.y()), std::abs(1 - q.y())});
     const bool inside_xy = p.x() >= 0 && p.x() <= 1 && p.y() >= 0 && p.y() <= 1;
     if (inside_xy && p.z() >= 0 && p.z() <= 1) {
       EXPECT_NEAR(hit.distance, to_planes, 1e-12);

@@ -8,8 +8,7 @@
 
 namespace motion_test {
 
-inline const std::filesystem::path panel_dir =
-    std::filesystem::path(shellflow::source_dir) / "cases" / "panel_flutter";
+inline const std::filesystem::path panel_dir = std::filesystem::path(shellflow::source_dir) / "cases" / "panel_flutter";
 
 inline shellflow::mesh::Mesh generate(const char* geo, int order, const char* name) {
   shellflow::mesh::MeshingOptions options;
@@ -35,8 +34,7 @@ inline shellflow::motion::BoundaryGroups panel_groups() {
 }
 
 inline shellflow::motion::SpaceMeshOptions panel_options(
-    double exponent = 4.0,
-    shellflow::motion::IdwWeighting weighting = shellflow::motion::IdwWeighting::plain) {
+    double exponent = 4.0, shellflow::motion::IdwWeighting weighting = shellflow::motion::IdwWeighting::plain) {
   shellflow::motion::SpaceMeshOptions o;
   const auto g = panel_groups();
   o.interface_groups = g.interface_groups;
@@ -51,7 +49,7 @@ inline shellflow::motion::SpaceMeshOptions panel_options(
 inline shellflow::motion::PanelModesMotion panel_motion(shellflow::TimeFunction amplitude) {
   using shellflow::Vec3;
   return shellflow::motion::PanelModesMotion(Vec3(0.25, 0, 0), Vec3::UnitX(), 0.5, Vec3::UnitY(),
-                                              {{1, std::move(amplitude)}});
+                                             {{1, std::move(amplitude)}});
 }
 
 /// Fluid node positions x and mesh velocities w at time t from a mover.

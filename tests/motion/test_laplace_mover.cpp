@@ -17,7 +17,6 @@ using motion_test::fluid;
 
 namespace {
 
-
 /// P1 stiffness of a tet4 mesh, assembled independently of the mover (cofactor form).
 Eigen::SparseMatrix<double> stiffness(const mesh::Mesh& m) {
   std::vector<Eigen::Triplet<double>> t;
@@ -55,8 +54,7 @@ TEST(LaplaceMover, InterfaceNodesFollowTheMotionFixedNodesStaySlidingNodesStayOn
     EXPECT_EQ(x[p].z(), X[p].z());
   }
   const auto b = classify_fluid_boundary(fluid(), motion_test::panel_groups());
-  for (Index n : b.fixed_nodes)
-    EXPECT_EQ(x[static_cast<std::size_t>(n)], X[static_cast<std::size_t>(n)]);
+  for (Index n : b.fixed_nodes) EXPECT_EQ(x[static_cast<std::size_t>(n)], X[static_cast<std::size_t>(n)]);
   ASSERT_FALSE(b.sliding_nodes.empty());
   double moved = 0.0;
   for (Index n : b.sliding_nodes) {

@@ -32,8 +32,7 @@ TEST(MeshMovers, MeshVelocityIsTheTimeDerivativeOfThePositions) {
 
 TEST(MeshMovers, FluidInterfaceNodesFollowTheBoundaryMotionExactly) {
   auto motion = motion_test::panel_motion(TimeFunction::constant(0.03));
-  SpaceMeshMover mover(fluid(), motion_test::space(), motion_test::panel_options(), motion,
-                       motion_test::shell().nodes);
+  SpaceMeshMover mover(fluid(), motion_test::space(), motion_test::panel_options(), motion, motion_test::shell().nodes);
   const auto [x, w] = at(mover, 0.0);
   for (Index n : fluid().group("panel").nodes) {
     const Vec3& X = fluid().nodes[static_cast<std::size_t>(n)];

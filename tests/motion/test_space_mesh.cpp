@@ -25,8 +25,7 @@ mesh::Mesh curved_tet() {
   A << 1.0, 0.2, 0.1, -0.1, 0.9, 0.3, 0.2, -0.2, 1.1;
   for (const auto& xi : fem::Tet20::nodes()) {
     const Vec3 r(xi[0], xi[1], xi[2]);
-    const Vec3 bump(0.05 * r.y() * r.z() * (1 + r.x()), -0.04 * r.x() * r.x() * r.z(),
-                    0.06 * r.x() * r.y() * r.y());
+    const Vec3 bump(0.05 * r.y() * r.z() * (1 + r.x()), -0.04 * r.x() * r.x() * r.z(), 0.06 * r.x() * r.y() * r.y());
     m.nodes.push_back(A * r + bump);
     m.node_tags.push_back(m.nodes.size());
   }
@@ -98,8 +97,8 @@ TEST(SpaceMeshClasses, PanelNodesAreClassifiedWithPrecedence) {
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const Vec3& x = nodes[i];
     const bool on_panel = std::abs(x.y()) < 1e-12 && x.x() > 0.25 - 1e-12 && x.x() < 0.75 + 1e-12;
-    const bool on_outer = std::abs(x.y()) < 1e-12 || std::abs(x.y() - 0.4) < 1e-12 ||
-                          std::abs(x.x()) < 1e-12 || std::abs(x.x() - 1.0) < 1e-12;
+    const bool on_outer = std::abs(x.y()) < 1e-12 || std::abs(x.y() - 0.4) < 1e-12 || std::abs(x.x()) < 1e-12 ||
+                          std::abs(x.x() - 1.0) < 1e-12;
     const bool on_symmetry = std::abs(x.z()) < 1e-12 || std::abs(x.z() - 0.025) < 1e-12;
     const NodeClass expected = on_panel      ? NodeClass::interface
                                : on_outer    ? NodeClass::fixed
@@ -142,9 +141,8 @@ TEST(SpaceMeshIdw, UniformTranslationMovesEveryNodeByExactlyThatTranslation) {
     space_mesh.locate(fluid().nodes);
     const Vec3 d(0.013, -0.021, 0.0);  // parallel to the symmetry planes z = const
     const Vec3 dv(0.5, 0.25, 0.0);
-    const std::vector<Vec3> iu(space_mesh.interface_nodes().size(), d),
-        iv(space_mesh.interface_nodes().size(), dv), su(shell.nodes.size(), d),
-        sv(shell.nodes.size(), dv), fu(space_mesh.fixed_nodes().size(), d);
+    const std::vector<Vec3> iu(space_mesh.interface_nodes().size(), d), iv(space_mesh.interface_nodes().size(), dv),
+        su(shell.nodes.size(), d), sv(shell.nodes.size(), dv), fu(space_mesh.fixed_nodes().size(), d);
     space_mesh.move(iu, iv, su, sv, fu);
     for (const Vec3& u : space_mesh.displacement()) ASSERT_LT((u - d).norm(), 1e-15);
     std::vector<Vec3> x(fluid().nodes.size()), w(x.size());
@@ -165,8 +163,8 @@ TEST(SpaceMeshIdw, SlidingNodesStayOnTheirPlanes) {
   space_mesh.locate(fluid().nodes);
   // A sample motion with a z component: sliding nodes must not leave z = 0 / z = 0.025.
   const Vec3 d(0.0, 0.05, 0.02);
-  const std::vector<Vec3> iu(space_mesh.interface_nodes().size(), Vec3(0, 0.05, 0)),
-      iv(iu.size(), Vec3::Zero()), su(shell.nodes.size(), d), sv(shell.nodes.size(), d);
+  const std::vector<Vec3> iu(space_mesh.interface_nodes().size(), Vec3(0, 0.05, 0)), iv(iu.size(), Vec3::Zero()),
+      su(shell.nodes.size(), d), sv(shell.nodes.size(), d);
   space_mesh.move(iu, iv, su, sv);
   const auto x = space_mesh.current_positions();
   Index sliding = 0;

@@ -1,11 +1,10 @@
 // The largest single-mode panel deflection A sin(pi s / L) that keeps every fluid element
 // valid, upward and downward, per mesh mover (motion.md "Tests"). Prints the table.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cstdio>
-
-#include <fmt/format.h>
 #include <limits>
 
 #include "motion_test_util.h"
@@ -46,12 +45,11 @@ class VariableAmplitude final : public BoundaryMotion {
 
 struct Quality {
   Index inverted;
-  double min_ratio;      ///< min over elements of q / q0 (local loss)
-  double minima_ratio;   ///< min q / min q0 (the worst element against the initial worst)
+  double min_ratio;     ///< min over elements of q / q0 (local loss)
+  double minima_ratio;  ///< min q / min q0 (the worst element against the initial worst)
 };
 
-Quality quality_at(FluidMeshMover& mover, Amplitude& amplitude, double a,
-                   const std::vector<double>& q0) {
+Quality quality_at(FluidMeshMover& mover, Amplitude& amplitude, double a, const std::vector<double>& q0) {
   amplitude.value = a;
   std::vector<Vec3> x(fluid().nodes.size()), w(x.size());
   mover.update(0.0, x, w);
@@ -66,8 +64,7 @@ Quality quality_at(FluidMeshMover& mover, Amplitude& amplitude, double a,
 }
 
 /// Largest |A| (sign given) with no inverted element, by bisection to 1 mm.
-double valid_limit(FluidMeshMover& mover, Amplitude& amplitude, double sign,
-                   const std::vector<double>& q0) {
+double valid_limit(FluidMeshMover& mover, Amplitude& amplitude, double sign, const std::vector<double>& q0) {
   double lo = 0.0, hi = 0.5;
   while (hi - lo > 1e-3) {
     const double mid = 0.5 * (lo + hi);
@@ -82,20 +79,21 @@ struct Row {
 };
 
 /// Measures one mover (its motion reads `amplitude`) and prints its row of the table.
-Row measure(FluidMeshMover& mover, Amplitude& amplitude, const std::vector<double>& q0,
-            const char* label) {
+Row measure(FluidMeshMover& mover, Amplitude& amplitude, const std::vector<double>& q0, const char* label) {
   Row r{valid_limit(mover, amplitude, -1.0, q0), valid_limit(mover, amplitude, +1.0, q0),
         quality_at(mover, amplitude, -0.03, q0), quality_at(mover, amplitude, +0.03, q0)};
-  std::printf("%-24s  %10.3f  %8.3f   %19.3f  %10.3f   %19.3f  %10.3f\n", label, -r.down, r.up,
-              r.at_down.min_ratio, r.at_down.minima_ratio, r.at_up.min_ratio, r.at_up.minima_ratio);
+  std::printf("%-24s  %10.3f  %8.3f   %19.3f  %10.3f   %19.3f  %10.3f\n", label, -r.down, r.up, r.at_down.min_ratio,
+              r.at_down.minima_ratio, r.at_up.min_ratio, r.at_up.minima_ratio);
   return r;
 }
 
 void print_header() {
-  std::printf("\nmin q/q0: smallest ratio over elements; minq/minq0: worst element against the "
-              "initial worst\n");
-  std::printf("mover        e  weighting  A_down [m]  A_up [m]   at -0.03 m: min q/q0, minq/minq0"
-              "   at +0.03 m: min q/q0, minq/minq0\n");
+  std::printf(
+      "\nmin q/q0: smallest ratio over elements; minq/minq0: worst element against the "
+      "initial worst\n");
+  std::printf(
+      "mover        e  weighting  A_down [m]  A_up [m]   at -0.03 m: min q/q0, minq/minq0"
+      "   at +0.03 m: min q/q0, minq/minq0\n");
 }
 
 }  // namespace
@@ -109,10 +107,10 @@ TEST(ValidityRange, SpaceMeshKeepsThePanelSlabValidBeyondTwelveCentimetres) {
     for (auto weighting : {IdwWeighting::plain, IdwWeighting::area}) {
       Amplitude amplitude;
       VariableAmplitude motion(amplitude);
-      SpaceMeshMover mover(fluid(), motion_test::space(), motion_test::panel_options(e, weighting),
-                           motion, shell.nodes, shell_areas);
-      const auto label = fmt::format("space_mesh   {:.0f}  {}", e,
-                                     weighting == IdwWeighting::plain ? "plain" : "area ");
+      SpaceMeshMover mover(fluid(), motion_test::space(), motion_test::panel_options(e, weighting), motion, shell.nodes,
+                           shell_areas);
+      const auto label =
+          fmt::format("space_mesh   {:.0f}  {}", e, weighting == IdwWeighting::plain ? "plain" : "area ");
       const Row r = measure(mover, amplitude, q0, label.c_str());
       if (e == 4.0 && weighting == IdwWeighting::plain) {
         // The targets: valid to at least +-0.12 m, and the worst element keeps at

@@ -5,9 +5,8 @@
 namespace shellflow::run::test {
 
 mesh::Mesh cube_mesh(const std::string& name) {
-  mesh::Mesh m = support::box_mesh({2, 2, 2}, Vec3(2, 2, 2), [](const Vec3& c) {
-    return c.z() == 0.0 ? std::string("bottom") : std::string();
-  });
+  mesh::Mesh m = support::box_mesh({2, 2, 2}, Vec3(2, 2, 2),
+                                   [](const Vec3& c) { return c.z() == 0.0 ? std::string("bottom") : std::string(); });
   m.name = name;
   m.source = "cube (test)";
   return m;

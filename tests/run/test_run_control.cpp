@@ -91,11 +91,13 @@ TEST(RunControl, ACheckpointOfAnotherKindIsRefused) {
   const io::Case c = a_case();
   {
     RunControl control(c, dir.path(), {}, std::nullopt, {});
-    control.set_state("flow", [](ArchiveWriter&) {}, [](ArchiveReader&) {});
+    control.set_state(
+        "flow", [](ArchiveWriter&) {}, [](ArchiveReader&) {});
     control.write_checkpoint(3, 3.0);
   }
   RunControl control(c, dir.path(), {}, load_restart(dir.path(), c), {});
-  control.set_state("shell dynamics", [](ArchiveWriter&) {}, [](ArchiveReader&) {});
+  control.set_state(
+      "shell dynamics", [](ArchiveWriter&) {}, [](ArchiveReader&) {});
   EXPECT_THROW(control.restore(), Error);
 }
 

@@ -29,12 +29,8 @@ Calls run_loop(long steps, int every, long fail_at = -1) {
 
 TEST(TimeLoop, ProbesEveryStepFramesEveryNAndAtTheLast) {
   const Calls calls = run_loop(7, 3);
-  const Calls expected = {{1, Record::probes},
-                          {2, Record::probes},
-                          {3, Record::probes_and_fields},
-                          {4, Record::probes},
-                          {5, Record::probes},
-                          {6, Record::probes_and_fields},
+  const Calls expected = {{1, Record::probes},           {2, Record::probes}, {3, Record::probes_and_fields},
+                          {4, Record::probes},           {5, Record::probes}, {6, Record::probes_and_fields},
                           {7, Record::probes_and_fields}};
   EXPECT_EQ(calls, expected);
 }
@@ -43,9 +39,8 @@ TEST(TimeLoop, UntilMoreSaysNo) {
   Calls calls;
   double t = 0.0;
   const long last = run_time_loop(
-      {0, 2, 1.0, "out", [&](long) { return t < 0.5; }},
-      [&](long) { return t += 0.2; }, [&](long step, Record what) { calls.emplace_back(step, what); },
-      [&] { return t; });
+      {0, 2, 1.0, "out", [&](long) { return t < 0.5; }}, [&](long) { return t += 0.2; },
+      [&](long step, Record what) { calls.emplace_back(step, what); }, [&] { return t; });
   EXPECT_EQ(last, 3);  // 0.2, 0.4, 0.6
   ASSERT_EQ(calls.size(), 3u);
   EXPECT_EQ(calls.back(), std::make_pair(3L, Record::probes_and_fields));

@@ -65,10 +65,30 @@ inline mesh::Mesh structured_shell_mesh(double L, double W, int nx, int ny,
     g.nodes.erase(std::unique(g.nodes.begin(), g.nodes.end()), g.nodes.end());
     m.groups.push_back(std::move(g));
   };
-  line_group("left", 1, [](int k) { return std::pair{0, k}; }, ny);
-  line_group("right", 2, [&](int k) { return std::pair{ni - 1, k}; }, ny);
-  line_group("bottom", 3, [](int k) { return std::pair{k, 0}; }, nx);
-  line_group("top", 4, [&](int k) { return std::pair{k, nj - 1}; }, nx);
+  line_group(
+      "left", 1,
+      [](int k) {
+        return std::pair{0, k};
+      },
+      ny);
+  line_group(
+      "right", 2,
+      [&](int k) {
+        return std::pair{ni - 1, k};
+      },
+      ny);
+  line_group(
+      "bottom", 3,
+      [](int k) {
+        return std::pair{k, 0};
+      },
+      nx);
+  line_group(
+      "top", 4,
+      [&](int k) {
+        return std::pair{k, nj - 1};
+      },
+      nx);
   mesh::PhysicalGroup surface;
   surface.name = "shell";
   surface.dim = 2;

@@ -2,11 +2,11 @@
 // no supports and no loads, spinning about a tilted axis while its membrane breathes. Linear
 // momentum is constant for both schemes; angular momentum drifts as O(dt^2) with the
 // trapezoidal Newmark rule and is conserved by the implicit midpoint rule.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 
 #include "shellflow/shell/newmark_solver.h"
 #include "structured_shell_mesh.h"
@@ -25,8 +25,9 @@ ShellModel free_plate(double poisson = 0.3) {
   section.thickness = kThickness;
   // Soft (membrane wave speed ~33 m/s): the breathing period ~0.06 s is resolved by the steps.
   section.material = {1.0e3, poisson, kDensity};
-  return ShellModel(testing::structured_shell_mesh(kLength, kWidth, 2, 1, [](double s, double t) { return Vec3(s, t, 0.0); }),
-                    section);
+  return ShellModel(
+      testing::structured_shell_mesh(kLength, kWidth, 2, 1, [](double s, double t) { return Vec3(s, t, 0.0); }),
+      section);
 }
 
 /// Rigid translation + spin about the centre + in-plane stretch; directors turn with the spin.
@@ -43,7 +44,7 @@ Eigen::VectorXd initial_velocity(const ShellModel& model) {
 struct Drift {
   double linear = 0.0;   ///< max_t |P(t) - P(0)| / |P(0)|
   double angular = 0.0;  ///< max_t |L(t) - L(0)| / |L(0)|
-  double energy = 0.0;    ///< max_t |E(t)/E(0) - 1|, E = T + U
+  double energy = 0.0;   ///< max_t |E(t)/E(0) - 1|, E = T + U
   double max_strain_energy = 0.0;
 };
 
@@ -74,11 +75,11 @@ TEST(FreeFlyingPlate, InitialMomentaMatchTheRigidBodyValues) {
   // The stretch about the centre carries no momentum; the spin none about the centre.
   const double mass = kDensity * kLength * kWidth * kThickness;
   const Vec3 P = mass * kTranslation;
-  const Eigen::Matrix3d J = mass / 12.0 *
-                            Eigen::Vector3d(kWidth * kWidth + kThickness * kThickness,
-                                            kLength * kLength + kThickness * kThickness,
-                                            kLength * kLength + kWidth * kWidth)
-                                .asDiagonal();
+  const Eigen::Matrix3d J =
+      mass / 12.0 *
+      Eigen::Vector3d(kWidth * kWidth + kThickness * kThickness, kLength * kLength + kThickness * kThickness,
+                      kLength * kLength + kWidth * kWidth)
+          .asDiagonal();
   const Vec3 L = kCentre.cross(P) + J * kSpin;
   std::printf("P = (%.6e, %.6e, %.6e), L = (%.6e, %.6e, %.6e)\n", P.x(), P.y(), P.z(), L.x(), L.y(), L.z());
   EXPECT_LT((solver.linear_momentum() - P).norm(), 1e-13 * P.norm());
@@ -91,8 +92,8 @@ TEST(FreeFlyingPlate, InitialMomentaMatchTheRigidBodyValues) {
 
 TEST(FreeFlyingPlate, MomentaOfNewmarkAndMidpoint) {
   const ShellModel model = free_plate();
-  const double stretch_energy =
-      0.5 * kStretchRate * kStretchRate * kDensity * kLength * kWidth * kThickness * (kLength * kLength + kWidth * kWidth) / 12.0;
+  const double stretch_energy = 0.5 * kStretchRate * kStretchRate * kDensity * kLength * kWidth * kThickness *
+                                (kLength * kLength + kWidth * kWidth) / 12.0;
   const double t_end = 0.12;  // two breathing periods; the plate turns by 0.26 rad
   Drift newmark[2], midpoint[2];
   for (int level = 0; level < 2; ++level) {

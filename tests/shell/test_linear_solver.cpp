@@ -2,10 +2,10 @@
 // node-ordered LDLT of NewtonLinearSolver against a dense solve of the free-dof system, the
 // factorise-once / solve-many split, the LU path, new constraints, and ShellSystemSolver's
 // local frames against an explicit dense basis change.
-#include <cstdio>
+#include <gtest/gtest.h>
 
 #include <Eigen/Dense>
-#include <gtest/gtest.h>
+#include <cstdio>
 
 #include "shellflow/shell/linear_solver.h"
 #include "structured_shell_mesh.h"
@@ -17,14 +17,16 @@ ShellModel small_strip(const Mat3& R = Mat3::Identity()) {
   ShellSection section;
   section.thickness = 0.02;
   section.material = {2e9, 0.3, 0.0};
-  return ShellModel(testing::structured_shell_mesh(1.0, 0.2, 3, 1, [&](double s, double t) { return Vec3(R * Vec3(s, t, 0.1 * s * s)); }),
+  return ShellModel(testing::structured_shell_mesh(
+                        1.0, 0.2, 3, 1, [&](double s, double t) { return Vec3(R * Vec3(s, t, 0.1 * s * s)); }),
                     section);
 }
 
 /// A tangent at a deformed state (not just the initial stiffness).
 SparseMatrix tangent(const ShellModel& model) {
   Eigen::VectorXd u = Eigen::VectorXd::Zero(model.num_dofs()), f;
-  for (Index n = 0; n < model.num_nodes(); ++n) u(7 * n + 2) = 0.01 * model.mesh().nodes[static_cast<std::size_t>(n)].x();
+  for (Index n = 0; n < model.num_nodes(); ++n)
+    u(7 * n + 2) = 0.01 * model.mesh().nodes[static_cast<std::size_t>(n)].x();
   SparseMatrix K = model.make_matrix();
   EXPECT_TRUE(model.assemble(u, f, &K));
   return K;
@@ -40,7 +42,8 @@ Eigen::VectorXd dense_reduced_solve(const SparseMatrix& K, const std::vector<cha
   Eigen::VectorXd rhs(free.size());
   for (std::size_t i = 0; i < free.size(); ++i) {
     rhs(static_cast<Eigen::Index>(i)) = b(free[i]);
-    for (std::size_t j = 0; j < free.size(); ++j) A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = dense(free[i], free[j]);
+    for (std::size_t j = 0; j < free.size(); ++j)
+      A(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = dense(free[i], free[j]);
   }
   const Eigen::VectorXd y = A.fullPivLu().solve(rhs);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
@@ -89,7 +92,8 @@ TEST(NewtonLinearSolver, ReducedLuOfANonSymmetricTangentMatchesADenseSolve) {
   model.add_follower_pressure({"", 5e4});
   SparseMatrix K0 = tangent(model);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(model.num_dofs()), f = u;
-  for (Index n = 0; n < model.num_nodes(); ++n) u(7 * n + 2) = 0.01 * model.mesh().nodes[static_cast<std::size_t>(n)].x();
+  for (Index n = 0; n < model.num_nodes(); ++n)
+    u(7 * n + 2) = 0.01 * model.mesh().nodes[static_cast<std::size_t>(n)].x();
   model.add_follower_loads(u, 1.0, 0.0, f, &K0);
   const Eigen::MatrixXd dense(K0);
   ASSERT_GT((dense - dense.transpose()).norm(), 1e-6 * dense.norm());  // really non-symmetric

@@ -3,10 +3,10 @@
 // the free thickness parameter `a` the tip deflection is the plate-strip value
 // P L^3 / (3 D) + P L / (k G h), D = E h^3 / (12 (1 - nu^2)); with a = 0 everywhere the strip
 // is stiffer by (1 - nu)^2 / (1 - 2 nu) = 1.225.
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/static_solver.h"
@@ -20,10 +20,10 @@ double tip_deflection(bool lock_a) {
   ShellSection section;
   section.thickness = 0.1;
   section.material = {1.2e6, 0.3, 0.0};
-  ShellModel model(mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) /
-                                           "cases/shell/sze31_cantilever_8x1.geo",
-                                       meshing, "shell"),
-                   section);
+  ShellModel model(
+      mesh::generate_mesh(std::filesystem::path(SHELLFLOW_SOURCE_DIR) / "cases/shell/sze31_cantilever_8x1.geo", meshing,
+                          "shell"),
+      section);
   model.add_support(Support::clamped("clamped"));
   model.add_support(Support::symmetry_plane("sides", 1));
   if (lock_a) model.add_support({"strip", {}, {}, true});

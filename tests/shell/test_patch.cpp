@@ -4,6 +4,8 @@
 // under a small end couple bends with constant curvature M/EI (rotation linear in x).
 // Also the linear Scordelis–Lo roof benchmark (shell-references.md, "Linear references")
 // with its mesh-convergence table.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,12 +13,10 @@
 #include <numbers>
 #include <random>
 
-#include <gtest/gtest.h>
-
+#include "reference_strip.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/linear_solver.h"
 #include "shellflow/shell/static_solver.h"
-#include "reference_strip.h"
 
 namespace shellflow::shell {
 namespace {
@@ -109,8 +109,8 @@ TEST(ShellPatchTest, DistortedFlatMeshTakesTheImposedUniformMembraneStrainExactl
   // Finite linear field x = F X (not small: the Green–Lagrange strain has its quadratic part).
   Mat3 F = Mat3::Identity();
   F.topLeftCorner<2, 2>() << 1.06, 0.03, -0.02, 1.04;  // stretched both ways (compression would buckle the plate)
-  const Eigen::Matrix2d E_membrane = 0.5 * (F.topLeftCorner<2, 2>().transpose() * F.topLeftCorner<2, 2>() -
-                                            Eigen::Matrix2d::Identity());
+  const Eigen::Matrix2d E_membrane =
+      0.5 * (F.topLeftCorner<2, 2>().transpose() * F.topLeftCorner<2, 2>() - Eigen::Matrix2d::Identity());
   // Uniform plane stress (S33 = 0, no transverse shear): E33 = -λ/(λ + 2μ) (E11 + E22).
   const double lambda = section.material.lame_lambda(), mu = section.material.lame_mu();
   const double E33 = -lambda / (lambda + 2.0 * mu) * E_membrane.trace();
@@ -145,9 +145,10 @@ TEST(ShellPatchTest, DistortedFlatMeshTakesTheImposedUniformMembraneStrainExactl
     worst_position = std::max(worst_position,
                               (node_position_increment(solver.displacement(), n) - (F - Mat3::Identity()) * X).norm());
   }
-  std::printf("membrane patch: %zu volume points, %d Newton iterations; worst |E_ab - imposed| %.2e, |E_a3| %.2e, "
-              "|E33 - plane stress| %.2e, node position error %.2e\n",
-              strains.size(), iterations, worst_membrane, worst_shear, worst_normal, worst_position);
+  std::printf(
+      "membrane patch: %zu volume points, %d Newton iterations; worst |E_ab - imposed| %.2e, |E_a3| %.2e, "
+      "|E33 - plane stress| %.2e, node position error %.2e\n",
+      strains.size(), iterations, worst_membrane, worst_shear, worst_normal, worst_position);
   EXPECT_LT(worst_membrane, 1e-10);
   EXPECT_LT(worst_shear, 1e-10);
   EXPECT_LT(worst_normal, 1e-10);
@@ -183,15 +184,14 @@ TEST(ShellPatchTest, PureBendingStripHasConstantCurvature) {
     worst_deflection = std::max(worst_deflection, std::abs(w - 0.5 * curvature * X * X));
     if (X == L) tip_rotation = psi;
   }
-  std::printf("bending patch: tip rotation / (ML/EI) = %.9f; worst |psi - M X/EI| = %.2e (of ML/EI %.2e), "
-              "worst |w - M X^2/(2EI)| = %.2e (of tip %.2e)\n",
-              tip_rotation / (curvature * L), worst_rotation, curvature * L, worst_deflection,
-              0.5 * curvature * L * L);
+  std::printf(
+      "bending patch: tip rotation / (ML/EI) = %.9f; worst |psi - M X/EI| = %.2e (of ML/EI %.2e), "
+      "worst |w - M X^2/(2EI)| = %.2e (of tip %.2e)\n",
+      tip_rotation / (curvature * L), worst_rotation, curvature * L, worst_deflection, 0.5 * curvature * L * L);
   EXPECT_NEAR(tip_rotation / (curvature * L), 1.0, 1e-6);
   EXPECT_LT(worst_rotation, 1e-6 * curvature * L);
   EXPECT_LT(worst_deflection, 1e-5 * 0.5 * curvature * L * L);
 }
-
 
 // Scordelis–Lo roof: R = 25, length 50, half-angle 40°, h = 0.25, E = 4.32e8, ν = 0, gravity
 // 90 per unit area (ρ h g = 360 · 0.25 · 1), rigid end diaphragms (y, z fixed, axial x and
@@ -245,7 +245,8 @@ ScordelisLoResult scordelis_lo(int n) {
 
 TEST(ScordelisLoRoof, MeshConvergesToTheReferenceDeflection) {
   constexpr double reference = 0.3024;
-  std::printf("Scordelis-Lo quarter mesh (quads -> 2 cubic triangles)   -w linear   error     -w (Newton, 1e-4 load)\n");
+  std::printf(
+      "Scordelis-Lo quarter mesh (quads -> 2 cubic triangles)   -w linear   error     -w (Newton, 1e-4 load)\n");
   double previous_error = std::numeric_limits<double>::infinity();
   double finest_error = 0.0;
   for (int n : {2, 4, 8, 16}) {

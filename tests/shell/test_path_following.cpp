@@ -3,17 +3,17 @@
 // through the snap-through of the hinged cylindrical roof of Sze, Liu & Lo (2004) the two
 // methods trace the same equilibrium path, in equilibrium at every point, with the load
 // rising, falling and rising again. The limit load is checked for mesh convergence.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
 
-#include <gtest/gtest.h>
-
+#include "reference_strip.h"
 #include "shellflow/core/error.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/static_solver.h"
-#include "reference_strip.h"
 
 namespace shellflow::shell {
 namespace {
@@ -50,9 +50,10 @@ TEST(ArcLength, ReproducesLoadControlOnTheSze31Strip) {
     ++points;
     return step.load_factor < 1.0;
   });
-  std::printf("Sze 3.1 arc length: %d points to load factor %.4f; worst relative difference to load control %.2e, "
-              "worst relative residual %.2e\n",
-              points, previous, worst_difference, worst_residual);
+  std::printf(
+      "Sze 3.1 arc length: %d points to load factor %.4f; worst relative difference to load control %.2e, "
+      "worst relative residual %.2e\n",
+      points, previous, worst_difference, worst_residual);
   EXPECT_GE(previous, 1.0);
   EXPECT_LT(worst_residual, 1e-6);
 }
@@ -74,9 +75,10 @@ TEST(DisplacementControl, ReproducesLoadControlOnTheSze31Strip) {
   EXPECT_EQ(points, 10);
   EXPECT_NEAR(path.controlled_displacement(tip), 6.6996, 1e-12);
   // W = 6.6996 is the elastica's tip deflection at P_max (shell-references.md 3.1, 0.2 %).
-  std::printf("Sze 3.1 displacement control: load factor %.5f at W = 6.6996 (elastica 1); worst relative "
-              "difference to load control %.2e\n",
-              path.load_factor(), worst_difference);
+  std::printf(
+      "Sze 3.1 displacement control: load factor %.5f at W = 6.6996 (elastica 1); worst relative "
+      "difference to load control %.2e\n",
+      path.load_factor(), worst_difference);
   EXPECT_NEAR(path.load_factor(), 1.0, 2e-3);
   EXPECT_LT(worst_difference, 1e-6);
 }
@@ -147,8 +149,7 @@ void expect_snap_through(const std::vector<std::pair<double, double>>& path, con
   EXPECT_LT(k_min + 1, path.size()) << what << ": the load never rises again";
   EXPECT_GT(path.back().second, path[k_min].second + 0.05 * (path[k_max].second - path[k_min].second)) << what;
   std::printf("%s: limit point at w = %.3f, load factor %.5f; minimum at w = %.3f, load factor %.5f; %zu points\n",
-              what.c_str(), path[k_max].first, path[k_max].second, path[k_min].first, path[k_min].second,
-              path.size());
+              what.c_str(), path[k_max].first, path[k_max].second, path[k_min].first, path[k_min].second, path.size());
 }
 
 TEST(ArcLength, HingedRoofSnapsThroughInEquilibrium) {
@@ -181,8 +182,7 @@ TEST(ArcLength, HingedRoofSnapsThroughInEquilibrium) {
     ASSERT_GT(control.solve_displacement(centre, -path[i].first), 0) << "w = " << path[i].first;
     worst_difference = std::max(worst_difference, std::abs(control.load_factor() - path[i].second));
   }
-  std::printf("displacement control at the same deflections: worst |load factor difference| %.2e\n",
-              worst_difference);
+  std::printf("displacement control at the same deflections: worst |load factor difference| %.2e\n", worst_difference);
   EXPECT_LT(worst_difference, 1e-6);
 }
 
@@ -212,9 +212,10 @@ TEST(ArcLength, ThinHingedRoofSnapsBack) {
     iterations += step.iterations;
     return w < 25.0;
   });
-  std::printf("roof h = 6.35, 4x4, arc length: %d Newton iterations, worst relative residual %.2e; the centre "
-              "deflection turns back from %.3f to %.3f\n",
-              iterations, worst_residual, largest_w_before_turn, smallest_w_after_turn);
+  std::printf(
+      "roof h = 6.35, 4x4, arc length: %d Newton iterations, worst relative residual %.2e; the centre "
+      "deflection turns back from %.3f to %.3f\n",
+      iterations, worst_residual, largest_w_before_turn, smallest_w_after_turn);
   expect_snap_through(path, "roof h = 6.35, 4x4, arc length");
   EXPECT_TRUE(turned_back);
   EXPECT_GT(largest_w_before_turn - smallest_w_after_turn, 0.5);

@@ -3,11 +3,11 @@
 // of the same value (force, tangent, static and dynamic solves); the point-pressure tangent
 // against finite differences on a cylinder; point tractions against a surface traction;
 // the time history of a follower pressure (cavity) at each scheme's evaluation time.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "reference_strip.h"
 #include "shellflow/core/error.h"
@@ -51,7 +51,8 @@ TEST(LoadPoints, AreTheQuadraturePointsElementMajorWithTheReferenceArea) {
   for (std::size_t k = 0; k < points.size(); ++k) {
     const LoadPoint& p = points[k];
     EXPECT_EQ(p.point.element, static_cast<Index>(k / static_cast<std::size_t>(nq)));
-    const auto xi = fem::triangle_rule(model.section().plane_degree).point(static_cast<int>(k % static_cast<std::size_t>(nq)));
+    const auto xi =
+        fem::triangle_rule(model.section().plane_degree).point(static_cast<int>(k % static_cast<std::size_t>(nq)));
     EXPECT_EQ(p.point.xi, Vec2(xi[0], xi[1]));
     EXPECT_LT((p.position - mid_surface_position(model, p.point, zero)).norm(), 1e-15);
     EXPECT_LT((p.normal - mid_surface_normal(model, p.point, zero)).norm(), 1e-14);
@@ -95,7 +96,8 @@ TEST(PointPressure, UniformEqualsTheGroupFollowerPressure) {
 TEST(PointPressure, TangentMatchesFiniteDifferencesOnACylinder) {
   ShellModel model = cylinder();
   std::vector<double> p;
-  for (const LoadPoint& lp : model.load_points()) p.push_back(1e3 * (1.0 + lp.position.x() - 2.0 * lp.position.y() * lp.position.z()));
+  for (const LoadPoint& lp : model.load_points())
+    p.push_back(1e3 * (1.0 + lp.position.x() - 2.0 * lp.position.y() * lp.position.z()));
   model.set_point_pressure(p);
   const Eigen::VectorXd u = random_vector(model.num_dofs(), 0.01, 11);
   const Eigen::VectorXd direction = random_vector(model.num_dofs(), 1.0, 12);

@@ -1,10 +1,10 @@
 // Element kernel of the positional shell (shell.md §13 items 2, 3, 4, 7): strain-free and
 // rigid states, derivatives against finite differences, mass totals.
-#include <cmath>
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-#include <gtest/gtest.h>
+#include <cmath>
+#include <random>
 
 #include "shellflow/shell/shell_element.h"
 
@@ -24,7 +24,8 @@ ShellElementGeometry<Tri> curved_element(const ShellQuadrature<Tri>& rule, doubl
   typename ShellElementGeometry<Tri>::NodeVectors X, V;
   const double R = 2.0;
   for (int j = 0; j < N; ++j) {
-    const double s = 1.1 * Tri::node_points[static_cast<std::size_t>(j)][0] + 0.2 * Tri::node_points[static_cast<std::size_t>(j)][1];
+    const double s =
+        1.1 * Tri::node_points[static_cast<std::size_t>(j)][0] + 0.2 * Tri::node_points[static_cast<std::size_t>(j)][1];
     const double y = 0.9 * Tri::node_points[static_cast<std::size_t>(j)][1];
     X.col(j) = Vec3(R * std::sin(s / R), y, R * std::cos(s / R)) + Vec3(noise(rng), noise(rng), noise(rng));
   }

@@ -1,12 +1,12 @@
 // The assembled model: mass totals, tangent against finite differences of the assembled
 // internal force (parallel colouring), rigid motion of a whole mesh, bad input.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <random>
 
-#include <gtest/gtest.h>
-
-#include "shellflow/core/error.h"
 #include "reference_strip.h"
+#include "shellflow/core/error.h"
 
 namespace shellflow::shell {
 namespace {
@@ -80,7 +80,8 @@ TEST(ShellModel, BadInputStopsWithAMessage) {
   auto& c = flipped.cells.connectivity;  // Tri10: swap vertices 1 and 2 and the edge nodes
   const std::array<int, 10> reorder{0, 2, 1, 8, 7, 6, 5, 4, 3, 9};
   std::array<Index, 10> first;
-  for (int j = 0; j < 10; ++j) first[static_cast<std::size_t>(j)] = c[static_cast<std::size_t>(reorder[static_cast<std::size_t>(j)])];
+  for (int j = 0; j < 10; ++j)
+    first[static_cast<std::size_t>(j)] = c[static_cast<std::size_t>(reorder[static_cast<std::size_t>(j)])];
   for (int j = 0; j < 10; ++j) c[static_cast<std::size_t>(j)] = first[static_cast<std::size_t>(j)];
   ShellSection good = model.section();
   EXPECT_THROW(ShellModel(flipped, good), InputError);
@@ -288,7 +289,8 @@ TEST(ShellLocator, PointsBeyondAnEdgeProjectOntoTheEdge) {
     Vec3 tangent = Vec3::Zero();  // d x̂ / ds along ξ = (1 − s, s)
     const auto conn = model.mesh().cells.element(e);
     for (int j = 0; j < 10; ++j)
-      tangent += (dN[2 * j + 1] - dN[2 * j]) * model.mesh().nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
+      tangent +=
+          (dN[2 * j + 1] - dN[2 * j]) * model.mesh().nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
     Vec3 conormal = tangent.cross(n).normalized();
     if (conormal.x() < 0.0) conormal = -conormal;
     for (const auto& [out, d] : {std::pair{0.2, 0.1}, std::pair{0.05, -0.3}, std::pair{1.0, 0.0}}) {

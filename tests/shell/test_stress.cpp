@@ -1,10 +1,10 @@
 // Stress recovery (shell.md §2.5, §3): uniaxial stretch of a flat plate against the exact
 // SVK solution, pure bending of a plate strip by an end couple (σ = ±6m/h²), zero stress
 // under rigid motion, objectivity of the Cauchy stress.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/shell/shell_stress.h"
@@ -24,8 +24,8 @@ ShellSection section() {
 }
 
 ShellModel flat_plate(int nx, int ny) {
-  return ShellModel(testing::structured_shell_mesh(1.0, 0.5, nx, ny, [](double s, double t) { return Vec3(s, t, 0.0); }),
-                    section());
+  return ShellModel(
+      testing::structured_shell_mesh(1.0, 0.5, nx, ny, [](double s, double t) { return Vec3(s, t, 0.0); }), section());
 }
 
 /// Stretch of a plate by a dead line load q per reference length along x on its right
@@ -104,14 +104,16 @@ TEST(ShellStress, EndCoupleGivesTheBeamBendingStress) {
     const double x = model.mesh().nodes[static_cast<std::size_t>(n)].x();
     if (x < 0.25 || x > 0.75) continue;  // away from the clamp's boundary layer
     const auto k = static_cast<std::size_t>(n);
-    worst = std::max({worst, std::abs(top.tensor[k](0, 0) / sigma_ref - 1.0),
-                      std::abs(bottom.tensor[k](0, 0) / sigma_ref + 1.0)});
+    worst = std::max(
+        {worst, std::abs(top.tensor[k](0, 0) / sigma_ref - 1.0), std::abs(bottom.tensor[k](0, 0) / sigma_ref + 1.0)});
     worst_mid = std::max(worst_mid, mid.tensor[k].cwiseAbs().maxCoeff() / sigma_ref);
     worst_yy = std::max(worst_yy, std::abs(top.tensor[k](1, 1) / (poisson * sigma_ref) - 1.0));
     ++checked;
   }
-  std::printf("bending: sigma_ref %.6e, max rel. error top/bottom %.2e, |mid| / sigma_ref %.2e, sigma_yy/(nu sigma) %.2e (%d nodes)\n",
-              sigma_ref, worst, worst_mid, worst_yy, checked);
+  std::printf(
+      "bending: sigma_ref %.6e, max rel. error top/bottom %.2e, |mid| / sigma_ref %.2e, sigma_yy/(nu sigma) %.2e (%d "
+      "nodes)\n",
+      sigma_ref, worst, worst_mid, worst_yy, checked);
   EXPECT_GT(checked, 10);
   EXPECT_LT(worst, 1e-5);
   EXPECT_LT(worst_mid, 1e-5);

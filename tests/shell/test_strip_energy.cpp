@@ -3,15 +3,15 @@
 // internal work along each step (trapezoidal rule for Newmark, midpoint rule for the
 // midpoint scheme): zero for a quadratic energy, O(dt^2) and bounded for the stiffening
 // membrane here.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 
-#include <gtest/gtest.h>
-
+#include "reference_strip.h"
 #include "shellflow/shell/modal.h"
 #include "shellflow/shell/newmark_solver.h"
-#include "reference_strip.h"
 
 namespace shellflow::shell {
 namespace {
@@ -19,9 +19,9 @@ namespace {
 constexpr double kThickness = 1.35e-3;
 
 struct LargeAmplitudeRun {
-  double worst_energy = 0.0;        ///< max |E/E0 - 1|
-  double worst_identity = 0.0;      ///< max |E/E0 - 1 - quadrature error/E0|
-  double final_energy = 0.0;        ///< E/E0 - 1 at the end
+  double worst_energy = 0.0;    ///< max |E/E0 - 1|
+  double worst_identity = 0.0;  ///< max |E/E0 - 1 - quadrature error/E0|
+  double final_energy = 0.0;    ///< E/E0 - 1 at the end
   double peak_deflection = 0.0;
   int iterations = 0;
 };
@@ -83,10 +83,11 @@ TEST(ReferenceStripVibrationSlow, LargeAmplitudeEnergyErrorIsTheWorkQuadratureEr
       const int steps_per_period = coarsest << level;
       const LargeAmplitudeRun run = run_large_amplitude(model, scheme, steps_per_period, 2 * steps_per_period);
       worst[level] = run.worst_energy;
-      std::printf("%s, peak w = %.2f h, dt = T/%d, 2 periods: max |E/E0 - 1| = %.2e, |error - quadrature "
-                  "error| <= %.1e, %d Newton iterations\n",
-                  scheme == TimeScheme::newmark ? "newmark" : "midpoint", run.peak_deflection / kThickness,
-                  steps_per_period, run.worst_energy, run.worst_identity, run.iterations);
+      std::printf(
+          "%s, peak w = %.2f h, dt = T/%d, 2 periods: max |E/E0 - 1| = %.2e, |error - quadrature "
+          "error| <= %.1e, %d Newton iterations\n",
+          scheme == TimeScheme::newmark ? "newmark" : "midpoint", run.peak_deflection / kThickness, steps_per_period,
+          run.worst_energy, run.worst_identity, run.iterations);
       EXPECT_GT(run.peak_deflection, 1.0 * kThickness);
       // The energy is measured consistently: the whole error is the quadrature error.
       EXPECT_LT(run.worst_identity, 1e-10);
@@ -101,9 +102,10 @@ TEST(ReferenceStripVibrationSlow, LargeAmplitudeEnergyWithinATenthOfAPercentOver
   // above (4.4e-2 at T/20) it needs dt below ~T/130 at this amplitude; T/200 gives 5 periods.
   const ShellModel model = reference_strip();
   const LargeAmplitudeRun run = run_large_amplitude(model, TimeScheme::newmark, 200, 1000);
-  std::printf("newmark, peak w = %.2f h, dt = T/200, 1000 steps: max |E/E0 - 1| = %.2e, final %+.2e, %d Newton "
-              "iterations\n",
-              run.peak_deflection / kThickness, run.worst_energy, run.final_energy, run.iterations);
+  std::printf(
+      "newmark, peak w = %.2f h, dt = T/200, 1000 steps: max |E/E0 - 1| = %.2e, final %+.2e, %d Newton "
+      "iterations\n",
+      run.peak_deflection / kThickness, run.worst_energy, run.final_energy, run.iterations);
   EXPECT_GT(run.peak_deflection, 1.0 * kThickness);
   EXPECT_LT(run.worst_energy, 1e-3);
 }

@@ -1,18 +1,18 @@
 // Free vibration of the reference panel strip (shell-references.md): L = 0.5 m,
 // h = 1.35 mm, E = 77.28 GPa, nu = 0.33, rho = 2710 kg/m³, clamped–clamped, symmetry planes
 // on the long edges (cylindrical bending): 31.401, 86.557, 169.687 Hz.
-#include <cmath>
-#include <cstdio>
-#include <numbers>
-#include <vector>
-#include <filesystem>
-
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <vector>
+
+#include "reference_strip.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/modal.h"
 #include "shellflow/shell/newmark_solver.h"
-#include "reference_strip.h"
 
 namespace shellflow::shell {
 namespace {
@@ -35,7 +35,8 @@ TEST(ReferenceStripVibration, FirstThreeFrequenciesMatchPlateStripTheory) {
 std::vector<double> zero_crossings(const std::vector<double>& t, const std::vector<double>& q) {
   std::vector<double> crossings;
   for (std::size_t i = 2; i < q.size(); ++i)  // q(0) = 0 is not a crossing
-    if ((q[i - 1] > 0.0) != (q[i] > 0.0)) crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * q[i - 1] / (q[i - 1] - q[i]));
+    if ((q[i - 1] > 0.0) != (q[i] > 0.0))
+      crossings.push_back(t[i - 1] + (t[i] - t[i - 1]) * q[i - 1] / (q[i - 1] - q[i]));
   return crossings;
 }
 
@@ -119,10 +120,11 @@ TEST(ReferenceStripVibration, TimeIntegratedFrequenciesOfModesTwoAndThree) {
     for (const TimeScheme scheme : {TimeScheme::newmark, TimeScheme::midpoint}) {
       double worst_energy = 0.0;
       const double f = time_integrated_frequency(model, modes, k, steps_per_period, scheme, &worst_energy);
-      std::printf("mode %d, %s (dt = T/%d): %.4f Hz, modal %.4f Hz, reference %.3f Hz (error %+.3f %%), "
-                  "max |E/E0 - 1| = %.1e\n",
-                  k + 1, scheme == TimeScheme::newmark ? "newmark" : "midpoint", steps_per_period, f, f_modal,
-                  reference[k], 100.0 * (f / reference[k] - 1.0), worst_energy);
+      std::printf(
+          "mode %d, %s (dt = T/%d): %.4f Hz, modal %.4f Hz, reference %.3f Hz (error %+.3f %%), "
+          "max |E/E0 - 1| = %.1e\n",
+          k + 1, scheme == TimeScheme::newmark ? "newmark" : "midpoint", steps_per_period, f, f_modal, reference[k],
+          100.0 * (f / reference[k] - 1.0), worst_energy);
       EXPECT_NEAR(f / f_modal, 1.0 - elongation, 1e-4) << "mode " << k + 1;
       EXPECT_NEAR(f / reference[k], 1.0, 2e-3) << "mode " << k + 1;
       EXPECT_LT(worst_energy, 1e-6);  // both schemes conserve a quadratic energy
@@ -156,10 +158,11 @@ TEST(ReferenceStripVibration, ModifiedNewtonFollowsTheFullNewtonTrajectory) {
       peak = std::max(peak, full.displacement().cwiseAbs().maxCoeff());
       worst = std::max(worst, (modified.displacement() - full.displacement()).cwiseAbs().maxCoeff());
     }
-    std::printf("%s: full Newton %d iterations / %d factorisations, modified %d / %d; max |u_mod - u_full| / "
-                "peak = %.2e\n",
-                scheme == TimeScheme::newmark ? "Newmark" : "midpoint", full_iterations, full.matrix_factorizations(),
-                modified_iterations, modified.matrix_factorizations(), worst / peak);
+    std::printf(
+        "%s: full Newton %d iterations / %d factorisations, modified %d / %d; max |u_mod - u_full| / "
+        "peak = %.2e\n",
+        scheme == TimeScheme::newmark ? "Newmark" : "midpoint", full_iterations, full.matrix_factorizations(),
+        modified_iterations, modified.matrix_factorizations(), worst / peak);
     EXPECT_GT(peak, 1.35e-3);
     EXPECT_LT(worst / peak, 1e-6);
     EXPECT_EQ(full.matrix_factorizations(), full_iterations);

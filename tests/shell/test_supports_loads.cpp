@@ -1,11 +1,11 @@
 // Supports along arbitrary directions (local bases, shell.md §10), hard simple support,
 // prescribed motion, dead surface traction (§11), and bad input of supports and loads.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/shell/linear_solver.h"
@@ -29,8 +29,8 @@ ShellSection section() {
 /// Strip [0, L] x [0, W] in the plane z = 0, then rotated by R and shifted.
 ShellModel strip(const Mat3& R, double L = 1.0, double W = 0.1, int nx = 8, int ny = 1) {
   const Vec3 shift(0.3, -0.7, 1.1);
-  return ShellModel(testing::structured_shell_mesh(L, W, nx, ny,
-                                                   [&](double s, double t) { return Vec3(R * Vec3(s, t, 0.0) + shift); }),
+  return ShellModel(testing::structured_shell_mesh(
+                        L, W, nx, ny, [&](double s, double t) { return Vec3(R * Vec3(s, t, 0.0) + shift); }),
                     section());
 }
 
@@ -223,9 +223,9 @@ TEST(ShellSupports, DynamicsWithRotatedSupportsGivesTheRotatedMotion) {
     const auto run = [&](const Mat3& Q, bool directional) {
       ShellSection s = section();
       s.material.density = 2700.0;
-      ShellModel model(testing::structured_shell_mesh(1.0, 0.1, 6, 1,
-                                                      [&](double x, double y) { return Vec3(Q * Vec3(x, y, 0.0)); }),
-                       s);
+      ShellModel model(
+          testing::structured_shell_mesh(1.0, 0.1, 6, 1, [&](double x, double y) { return Vec3(Q * Vec3(x, y, 0.0)); }),
+          s);
       add_roller_strip_supports(model, Q, directional);
       model.add_surface_traction({"", Q * Vec3(0.0, 0.0, 2e3)});
       NewmarkOptions options;
@@ -344,7 +344,8 @@ TEST(ShellSupports, BadInputStopsWithAMessage) {
     return std::string();
   };
   // A missing group: the message names it, the mesh and the groups available.
-  const std::string missing = message([&] { model.add_support(DirectionalSupport::symmetry_plane("wall", Vec3::UnitX())); });
+  const std::string missing =
+      message([&] { model.add_support(DirectionalSupport::symmetry_plane("wall", Vec3::UnitX())); });
   EXPECT_NE(missing.find("'wall'"), std::string::npos) << missing;
   EXPECT_NE(missing.find("shell"), std::string::npos) << missing;
   EXPECT_NE(missing.find("left, right, bottom, top"), std::string::npos) << missing;
@@ -353,12 +354,18 @@ TEST(ShellSupports, BadInputStopsWithAMessage) {
   EXPECT_NE(message([&] { model.add_prescribed_motion({"wall", Vec3::UnitZ()}); }).find("'wall'"), std::string::npos);
   // Zero / NaN traction, a surface load on a line group.
   EXPECT_NE(message([&] { model.add_surface_traction({"shell", Vec3::Zero()}); }).find("zero"), std::string::npos);
-  EXPECT_NE(message([&] { model.add_surface_traction({"", Vec3(1.0, std::nan(""), 0.0)}); }).find("not finite"),
+  EXPECT_NE(message([&] {
+              model.add_surface_traction({"", Vec3(1.0, std::nan(""), 0.0)});
+            }).find("not finite"),
             std::string::npos);
-  EXPECT_NE(message([&] { model.add_surface_traction({"left", Vec3::UnitZ()}); }).find("surface group"),
+  EXPECT_NE(message([&] {
+              model.add_surface_traction({"left", Vec3::UnitZ()});
+            }).find("surface group"),
             std::string::npos);
   // Directions of zero length.
-  EXPECT_NE(message([&] { model.add_support(DirectionalSupport::symmetry_plane("left", Vec3::Zero())); }).find("non-zero length"),
+  EXPECT_NE(message([&] {
+              model.add_support(DirectionalSupport::symmetry_plane("left", Vec3::Zero()));
+            }).find("non-zero length"),
             std::string::npos);
   EXPECT_NE(message([&] { DirectionalSupport::roller("left", Vec3::Zero(), true); }).find("non-zero length"),
             std::string::npos);

@@ -2,13 +2,13 @@
 // P_max L²/EI = 4, 20 load steps, against the exact elastica columns of
 // shell-references.md (tolerance 0.2 %, or 0.001 absolute below 0.1). Also a mesh
 // convergence table (printed).
+#include <gtest/gtest.h>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
-
-#include <gtest/gtest.h>
 
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/static_solver.h"
@@ -75,8 +75,8 @@ CantileverResult run_sze31(int n_along, bool print_levels, bool modified_newton 
 
 TEST(SzeCantileverEndShear, CubicMesh8x1MatchesTheElasticaAtEveryLevel) {
   const CantileverResult r = run_sze31(8, true);
-  std::printf("8x1: worst error -U %.3e, W %.3e (relative where >= 0.1), %d Newton iterations in 20 steps\n",
-              r.worst_u, r.worst_w, r.total_iterations);
+  std::printf("8x1: worst error -U %.3e, W %.3e (relative where >= 0.1), %d Newton iterations in 20 steps\n", r.worst_u,
+              r.worst_w, r.total_iterations);
   EXPECT_TRUE(r.within_tolerance);
   EXPECT_LT(r.worst_u, 2e-3);
   EXPECT_LT(r.worst_w, 2e-3);

@@ -18,14 +18,13 @@ namespace shellflow::support {
 /// Boundary triangles go to the group group_of(face centroid) names; "" leaves them out of
 /// every group (no condition: used for the faces tied periodically by PeriodicTie).
 inline mesh::Mesh box_mesh(std::array<int, 3> n, const Vec3& L,
-                    const std::function<std::string(const Vec3&)>& group_of) {
+                           const std::function<std::string(const Vec3&)>& group_of) {
   mesh::Mesh m;
   m.name = "box";
   auto id = [&](int i, int j, int k) { return Index(i + (n[0] + 1) * (j + (n[1] + 1) * k)); };
   for (int k = 0; k <= n[2]; ++k)
     for (int j = 0; j <= n[1]; ++j)
-      for (int i = 0; i <= n[0]; ++i)
-        m.nodes.emplace_back(L.x() * i / n[0], L.y() * j / n[1], L.z() * k / n[2]);
+      for (int i = 0; i <= n[0]; ++i) m.nodes.emplace_back(L.x() * i / n[0], L.y() * j / n[1], L.z() * k / n[2]);
   m.cells.type = mesh::ElementType::tet4;
   const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int k = 0; k < n[2]; ++k)

@@ -31,9 +31,10 @@ std::vector<Vec3> ArchiveReader::get_vec3s() {
 
 const char* ArchiveReader::take(std::size_t n) {
   if (n > bytes_.size() - at_)
-    throw Error(fmt::format("{}: ends early ({} bytes, {} more needed at byte {}); it is not a checkpoint of this "
-                            "kind of run or it is damaged",
-                            what_, bytes_.size(), n, at_));
+    throw Error(
+        fmt::format("{}: ends early ({} bytes, {} more needed at byte {}); it is not a checkpoint of this "
+                    "kind of run or it is damaged",
+                    what_, bytes_.size(), n, at_));
   const char* p = bytes_.data() + at_;
   at_ += n;
   return p;
@@ -42,23 +43,25 @@ const char* ArchiveReader::take(std::size_t n) {
 std::size_t ArchiveReader::count(std::size_t element) {
   const auto n = get<std::uint64_t>();
   if (element > 0 && n > (bytes_.size() - at_) / element)
-    throw Error(fmt::format("{}: a stored size {} at byte {} exceeds the {} bytes left; it is not a checkpoint of "
-                            "this kind of run or it is damaged",
-                            what_, n, at_ - 8, bytes_.size() - at_));
+    throw Error(
+        fmt::format("{}: a stored size {} at byte {} exceeds the {} bytes left; it is not a checkpoint of "
+                    "this kind of run or it is damaged",
+                    what_, n, at_ - 8, bytes_.size() - at_));
   return static_cast<std::size_t>(n);
 }
 
 void ArchiveReader::expect_size(std::string_view item, std::size_t stored, std::size_t expected) const {
   if (stored != expected)
-    throw Error(fmt::format("{}: {} has {} entries in the checkpoint, {} in this run; the checkpoint is of "
-                            "another mesh or model",
-                            what_, item, stored, expected));
+    throw Error(
+        fmt::format("{}: {} has {} entries in the checkpoint, {} in this run; the checkpoint is of "
+                    "another mesh or model",
+                    what_, item, stored, expected));
 }
 
 void ArchiveReader::expect_end() const {
   if (at_ != bytes_.size())
-    throw Error(fmt::format("{}: {} bytes left unread; the checkpoint is of another kind of run", what_,
-                            bytes_.size() - at_));
+    throw Error(
+        fmt::format("{}: {} bytes left unread; the checkpoint is of another kind of run", what_, bytes_.size() - at_));
 }
 
 }  // namespace shellflow

@@ -9,6 +9,7 @@
 // end, or finds a size that cannot be (a vector longer than the bytes left), throws
 // shellflow::Error naming the archive; readers of fixed-size objects check the sizes they
 // expect with expect_size().
+#include <Eigen/Core>
 #include <cstdint>
 #include <cstring>
 #include <span>
@@ -16,8 +17,6 @@
 #include <string_view>
 #include <type_traits>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "shellflow/core/error.h"
 #include "shellflow/core/types.h"
@@ -34,7 +33,8 @@ inline std::uint64_t checksum64(std::string_view text) {
 class ArchiveWriter {
  public:
   template <class T>
-  requires std::is_trivially_copyable_v<T> void put(const T& value) {
+  requires std::is_trivially_copyable_v<T>
+  void put(const T& value) {
     const auto* p = reinterpret_cast<const char*>(&value);
     bytes_.append(p, sizeof(T));
   }
@@ -45,14 +45,14 @@ class ArchiveWriter {
   void put(const std::string& s) { put(std::string_view(s)); }
   void put(const char* s) { put(std::string_view(s)); }
   template <class T>
-  requires std::is_trivially_copyable_v<T> void put_span(std::span<const T> values) {
+  requires std::is_trivially_copyable_v<T>
+  void put_span(std::span<const T> values) {
     put(static_cast<std::uint64_t>(values.size()));
     bytes_.append(reinterpret_cast<const char*>(values.data()), values.size_bytes());
   }
   template <class T>
-  requires std::is_trivially_copyable_v<T> void put(const std::vector<T>& values) {
-    put_span(std::span<const T>(values));
-  }
+  requires std::is_trivially_copyable_v<T>
+  void put(const std::vector<T>& values) { put_span(std::span<const T>(values)); }
   void put(const std::vector<Vec3>& values);
   void put(const Eigen::VectorXd& v) { put_span(std::span<const double>(v.data(), std::size_t(v.size()))); }
   void put(const std::vector<std::string>& values) {

@@ -1,11 +1,11 @@
 #pragma once
 // Errors carry their full context (file, line, entity, fix) in the message, so that
 // `main` can print them as one line. Library code throws; only `app/` catches.
+#include <fmt/format.h>
+
 #include <stdexcept>
 #include <string>
 #include <string_view>
-
-#include <fmt/format.h>
 
 namespace shellflow {
 

@@ -26,14 +26,22 @@ struct Function {
   int arguments;
 };
 constexpr std::array<Function, 13> kFunctions = {{
-    {"sin", Op::sin, 1},   {"cos", Op::cos, 1},   {"tan", Op::tan, 1},   {"exp", Op::exp, 1},
-    {"log", Op::log, 1},   {"sqrt", Op::sqrt, 1}, {"abs", Op::abs, 1},   {"tanh", Op::tanh, 1},
-    {"step", Op::step, 1}, {"min", Op::min, 2},   {"max", Op::max, 2},   {"pow", Op::power, 2},
+    {"sin", Op::sin, 1},
+    {"cos", Op::cos, 1},
+    {"tan", Op::tan, 1},
+    {"exp", Op::exp, 1},
+    {"log", Op::log, 1},
+    {"sqrt", Op::sqrt, 1},
+    {"abs", Op::abs, 1},
+    {"tanh", Op::tanh, 1},
+    {"step", Op::step, 1},
+    {"min", Op::min, 2},
+    {"max", Op::max, 2},
+    {"pow", Op::power, 2},
     {"atan2", Op::atan2, 2},
 }};
 
-constexpr std::string_view kFunctionNames =
-    "sin cos tan exp log sqrt abs tanh step min max pow atan2";
+constexpr std::string_view kFunctionNames = "sin cos tan exp log sqrt abs tanh step min max pow atan2";
 
 bool is_name_start(char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0 || c == '_'; }
 bool is_name_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; }
@@ -56,11 +64,10 @@ class ExpressionParser {
       : text_(text), variables_(variables.begin(), variables.end()), fold_(fold) {
     for (std::size_t i = 0; i < variables_.size(); ++i) {
       const std::string_view v = variables_[i];
-      const bool is_name = !v.empty() && is_name_start(v[0]) &&
-                           std::all_of(v.begin(), v.end(), is_name_char);
-      const bool reserved = v == "pi" || v == "e" ||
-                            std::any_of(kFunctions.begin(), kFunctions.end(),
-                                        [&](const Function& f) { return f.name == v; });
+      const bool is_name = !v.empty() && is_name_start(v[0]) && std::all_of(v.begin(), v.end(), is_name_char);
+      const bool reserved =
+          v == "pi" || v == "e" ||
+          std::any_of(kFunctions.begin(), kFunctions.end(), [&](const Function& f) { return f.name == v; });
       if (!is_name || reserved ||
           std::find(variables_.begin(), variables_.begin() + static_cast<std::ptrdiff_t>(i), v) !=
               variables_.begin() + static_cast<std::ptrdiff_t>(i)) {
@@ -76,9 +83,8 @@ class ExpressionParser {
       const char c = text_[pos_];
       // "2t" or "2(t+1)": say that the product needs its operator.
       const bool juxtaposed = is_name_start(c) || c == '(' || is_digit(c);
-      fail(pos_,
-           fmt::format("expected an operator (+ - * / ^) or the end of the expression, got {}{}",
-                       describe(pos_), juxtaposed ? " (a product needs an explicit '*')" : ""));
+      fail(pos_, fmt::format("expected an operator (+ - * / ^) or the end of the expression, got {}{}", describe(pos_),
+                             juxtaposed ? " (a product needs an explicit '*')" : ""));
     }
     Expression e;
     e.text_ = std::string(text_);
@@ -116,8 +122,7 @@ class ExpressionParser {
 
   void parse_signed() {
     const char c = peek();
-    if (++nesting_ > kMaxNesting)
-      fail(pos_, fmt::format("nested deeper than {} levels", kMaxNesting));
+    if (++nesting_ > kMaxNesting) fail(pos_, fmt::format("nested deeper than {} levels", kMaxNesting));
     if (c == '-' || c == '+') {
       ++pos_;
       parse_signed();
@@ -174,8 +179,8 @@ class ExpressionParser {
       expect(')', {}, peek() == ',' ? count : std::string());
       return emit(f.op);
     }
-    fail(start, fmt::format("unknown name '{}'; expected {}pi, e or a function {}", name,
-                            variable_list_, kFunctionNames));
+    fail(start,
+         fmt::format("unknown name '{}'; expected {}pi, e or a function {}", name, variable_list_, kFunctionNames));
   }
 
   // digits [. digits] [(e|E) [+|-] digits], or . digits [...]; an 'e' not followed by an
@@ -198,8 +203,7 @@ class ExpressionParser {
     double value = 0.0;
     const auto [end, error] = std::from_chars(text_.data() + start, text_.data() + pos_, value);
     if (error != std::errc() || end != text_.data() + pos_) {
-      fail(start, fmt::format("number '{}' is out of the range of a double",
-                              text_.substr(start, pos_ - start)));
+      fail(start, fmt::format("number '{}' is out of the range of a double", text_.substr(start, pos_ - start)));
     }
     emit_constant(value);
   }
@@ -208,17 +212,15 @@ class ExpressionParser {
   // "expected ',', got ')' (min takes 2 arguments)".
   void expect(char c, std::string_view after = {}, std::string_view note = {}) {
     if (peek() != c) {
-      fail(pos_,
-           fmt::format("expected '{}'{}{}{}", c, after,
-                       pos_ < text_.size() ? ", got " + describe(pos_) : std::string(), note));
+      fail(pos_, fmt::format("expected '{}'{}{}{}", c, after,
+                             pos_ < text_.size() ? ", got " + describe(pos_) : std::string(), note));
     }
     ++pos_;
   }
 
   // The next character after blanks, '\0' at the end.
   char peek() {
-    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_])) != 0)
-      ++pos_;
+    while (pos_ < text_.size() && std::isspace(static_cast<unsigned char>(text_[pos_])) != 0) ++pos_;
     return pos_ < text_.size() ? text_[pos_] : '\0';
   }
 
@@ -255,15 +257,13 @@ class ExpressionParser {
     }
     const auto n = static_cast<std::size_t>(arity(op));
     bool constant = fold_ && code_.size() >= n;
-    for (std::size_t i = 0; constant && i < n; ++i)
-      constant = code_[code_.size() - 1 - i].op == Op::constant;
+    for (std::size_t i = 0; constant && i < n; ++i) constant = code_[code_.size() - 1 - i].op == Op::constant;
     if (!constant) {
       code_.push_back({op, 0, 0.0});
       return;
     }
     // The folded value comes from the same code as a run-time one would.
-    std::vector<Expression::Instruction> folded(code_.end() - static_cast<std::ptrdiff_t>(n),
-                                                code_.end());
+    std::vector<Expression::Instruction> folded(code_.end() - static_cast<std::ptrdiff_t>(n), code_.end());
     folded.push_back({op, 0, 0.0});
     code_.resize(code_.size() - n);
     emit_constant(run<double>(folded, 2, {}, 0));
@@ -289,8 +289,8 @@ Expression Expression::parse(std::string_view text, std::span<const std::string_
 namespace {
 void check_point(std::span<const double> point, const std::vector<std::string>& variables) {
   if (point.size() < variables.size()) {
-    throw std::invalid_argument(fmt::format("an expression of {} variables evaluated at {} values",
-                                            variables.size(), point.size()));
+    throw std::invalid_argument(
+        fmt::format("an expression of {} variables evaluated at {} values", variables.size(), point.size()));
   }
 }
 }  // namespace
@@ -308,29 +308,43 @@ bool finite(const Dual& a) { return std::isfinite(a.v) && std::isfinite(a.d); }
 std::string cause(Op op, const Dual& a, const Dual& b, const Dual& r) {
   if (std::isfinite(r.v)) {  // only the derivative
     switch (op) {
-      case Op::sqrt: return "sqrt of 0, whose slope is infinite";
+      case Op::sqrt:
+        return "sqrt of 0, whose slope is infinite";
       case Op::power:
-      case Op::integer_power: return "a power of 0 below 1, whose slope is infinite";
-      case Op::log: return "log of 0";
-      case Op::divide: return "division by zero";
-      default: return "an operation whose slope is infinite there";
+      case Op::integer_power:
+        return "a power of 0 below 1, whose slope is infinite";
+      case Op::log:
+        return "log of 0";
+      case Op::divide:
+        return "division by zero";
+      default:
+        return "an operation whose slope is infinite there";
     }
   }
   switch (op) {
-    case Op::sqrt: return "sqrt of a negative number";
-    case Op::log: return a.v == 0.0 ? "log of 0" : "log of a negative number";
-    case Op::divide: return b.v == 0.0 ? "division by zero" : "overflow in a division";
+    case Op::sqrt:
+      return "sqrt of a negative number";
+    case Op::log:
+      return a.v == 0.0 ? "log of 0" : "log of a negative number";
+    case Op::divide:
+      return b.v == 0.0 ? "division by zero" : "overflow in a division";
     case Op::power:
       if (a.v == 0.0 && b.v < 0.0) return "0 to a negative power";
       if (a.v < 0.0 && b.v != std::trunc(b.v)) return "a negative number to a non-integer power";
       return "overflow in a power";
-    case Op::integer_power: return a.v == 0.0 ? "0 to a negative power" : "overflow in a power";
-    case Op::exp: return "overflow in exp";
-    case Op::tan: return "tan at a pole";
-    case Op::multiply: return "overflow in a product";
+    case Op::integer_power:
+      return a.v == 0.0 ? "0 to a negative power" : "overflow in a power";
+    case Op::exp:
+      return "overflow in exp";
+    case Op::tan:
+      return "tan at a pole";
+    case Op::multiply:
+      return "overflow in a product";
     case Op::add:
-    case Op::subtract: return "overflow in a sum";
-    default: return "an operation out of its range";
+    case Op::subtract:
+      return "overflow in a sum";
+    default:
+      return "an operation out of its range";
   }
 }
 
@@ -360,8 +374,7 @@ std::string Expression::explain_non_finite(std::span<const double> point, int va
   return {};
 }
 
-Expression::ValueAndDerivative Expression::evaluate(std::span<const double> point,
-                                                    std::size_t variable) const {
+Expression::ValueAndDerivative Expression::evaluate(std::span<const double> point, std::size_t variable) const {
   check_point(point, variables_);
   const Dual r = run<Dual>(code_, stack_size_, point, static_cast<int>(variable));
   return {r.v, r.d};

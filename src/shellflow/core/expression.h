@@ -43,9 +43,7 @@ class Expression {
   double value(double t) const { return value(std::span<const double>(&t, 1)); }
   /// d/dt of an expression of one variable at t.
   double derivative(double t) const { return evaluate(t).derivative; }
-  ValueAndDerivative evaluate(double t) const {
-    return evaluate(std::span<const double>(&t, 1), 0);
-  }
+  ValueAndDerivative evaluate(double t) const { return evaluate(std::span<const double>(&t, 1), 0); }
 
   /// The value at `point`: one value per variable, in the order given to parse() (fewer
   /// values than variables is a programming error: std::invalid_argument).
@@ -71,12 +69,27 @@ class Expression {
   std::size_t size() const { return code_.size(); }
 
   enum class Op : unsigned char {
-    constant,       ///< pushes Instruction::constant
-    variable,       ///< pushes the value of variable number Instruction::index
-    negate, add, subtract, multiply, divide, power,
+    constant,  ///< pushes Instruction::constant
+    variable,  ///< pushes the value of variable number Instruction::index
+    negate,
+    add,
+    subtract,
+    multiply,
+    divide,
+    power,
     integer_power,  ///< a^n for a constant integer n = Instruction::index, by multiplication
-    sin, cos, tan, exp, log, sqrt, abs, tanh, step,
-    min, max, atan2,
+    sin,
+    cos,
+    tan,
+    exp,
+    log,
+    sqrt,
+    abs,
+    tanh,
+    step,
+    min,
+    max,
+    atan2,
   };
   struct Instruction {
     Op op = Op::constant;

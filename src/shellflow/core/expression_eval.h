@@ -18,12 +18,8 @@ using Op = Expression::Op;
 
 // min, max and step propagate NaN (std::fmin would drop it) so that a bad value stays visible.
 inline double heaviside(double a) { return std::isnan(a) ? a : (a >= 0.0 ? 1.0 : 0.0); }
-inline double minimum(double a, double b) {
-  return (std::isnan(a) || std::isnan(b)) ? a + b : (b < a ? b : a);
-}
-inline double maximum(double a, double b) {
-  return (std::isnan(a) || std::isnan(b)) ? a + b : (b > a ? b : a);
-}
+inline double minimum(double a, double b) { return (std::isnan(a) || std::isnan(b)) ? a + b : (b < a ? b : a); }
+inline double maximum(double a, double b) { return (std::isnan(a) || std::isnan(b)) ? a + b : (b > a ? b : a); }
 
 // a^n by repeated squaring: t^2 is the most common power in a load function, and std::pow
 // costs several multiplications. Like std::pow, a^0 = 1 for every a.
@@ -54,9 +50,7 @@ inline Dual operator/(const Dual& a, const Dual& b) {
 
 // f(a) with f'(a) = slope. A constant inner function contributes nothing even where f' is
 // infinite (sqrt(0 * t) at 0): 0 * inf would otherwise make the derivative NaN.
-inline Dual chain(double value, double slope, const Dual& a) {
-  return {value, a.d == 0.0 ? 0.0 : slope * a.d};
-}
+inline Dual chain(double value, double slope, const Dual& a) { return {value, a.d == 0.0 ? 0.0 : slope * a.d}; }
 
 inline Dual sin(const Dual& a) { return chain(std::sin(a.v), std::cos(a.v), a); }
 inline Dual cos(const Dual& a) { return chain(std::cos(a.v), -std::sin(a.v), a); }
@@ -74,9 +68,7 @@ inline Dual sqrt(const Dual& a) {
   return chain(v, 0.5 / v, a);
 }
 // |a| has no derivative at a = 0; 0 is the mean of the one-sided slopes -1 and 1.
-inline Dual abs(const Dual& a) {
-  return chain(std::abs(a.v), a.v > 0.0 ? 1.0 : (a.v < 0.0 ? -1.0 : 0.0), a);
-}
+inline Dual abs(const Dual& a) { return chain(std::abs(a.v), a.v > 0.0 ? 1.0 : (a.v < 0.0 ? -1.0 : 0.0), a); }
 inline Dual tanh(const Dual& a) {
   const double v = std::tanh(a.v);
   return chain(v, 1.0 - v * v, a);
@@ -120,7 +112,8 @@ inline Dual atan2(const Dual& y, const Dual& x) {
 inline int arity(Op op) {
   switch (op) {
     case Op::constant:
-    case Op::variable: return 0;
+    case Op::variable:
+      return 0;
     case Op::add:
     case Op::subtract:
     case Op::multiply:
@@ -128,8 +121,10 @@ inline int arity(Op op) {
     case Op::power:
     case Op::min:
     case Op::max:
-    case Op::atan2: return 2;
-    default: return 1;
+    case Op::atan2:
+      return 2;
+    default:
+      return 1;
   }
 }
 
@@ -147,49 +142,92 @@ T make(double value, [[maybe_unused]] double derivative) {
 template <class T>
 inline void apply(const Expression::Instruction& in, std::span<const double> point, int seed, T*& top) {
   // std:: for double; for Dual, argument-dependent lookup finds the overloads above.
-  using std::sin, std::cos, std::tan, std::exp, std::log, std::sqrt, std::abs, std::tanh, std::pow,
-      std::atan2;
+  using std::sin, std::cos, std::tan, std::exp, std::log, std::sqrt, std::abs, std::tanh, std::pow, std::atan2;
   switch (in.op) {
-    case Op::constant: *top++ = make<T>(in.constant, 0.0); break;
+    case Op::constant:
+      *top++ = make<T>(in.constant, 0.0);
+      break;
     case Op::variable:
       *top++ = make<T>(point[static_cast<std::size_t>(in.index)], in.index == seed ? 1.0 : 0.0);
       break;
-    case Op::negate: top[-1] = -top[-1]; break;
-    case Op::sin: top[-1] = sin(top[-1]); break;
-    case Op::cos: top[-1] = cos(top[-1]); break;
-    case Op::tan: top[-1] = tan(top[-1]); break;
-    case Op::exp: top[-1] = exp(top[-1]); break;
-    case Op::log: top[-1] = log(top[-1]); break;
-    case Op::sqrt: top[-1] = sqrt(top[-1]); break;
-    case Op::abs: top[-1] = abs(top[-1]); break;
-    case Op::tanh: top[-1] = tanh(top[-1]); break;
-    case Op::step: top[-1] = heaviside(top[-1]); break;
+    case Op::negate:
+      top[-1] = -top[-1];
+      break;
+    case Op::sin:
+      top[-1] = sin(top[-1]);
+      break;
+    case Op::cos:
+      top[-1] = cos(top[-1]);
+      break;
+    case Op::tan:
+      top[-1] = tan(top[-1]);
+      break;
+    case Op::exp:
+      top[-1] = exp(top[-1]);
+      break;
+    case Op::log:
+      top[-1] = log(top[-1]);
+      break;
+    case Op::sqrt:
+      top[-1] = sqrt(top[-1]);
+      break;
+    case Op::abs:
+      top[-1] = abs(top[-1]);
+      break;
+    case Op::tanh:
+      top[-1] = tanh(top[-1]);
+      break;
+    case Op::step:
+      top[-1] = heaviside(top[-1]);
+      break;
     case Op::integer_power:
       top[-1] = integer_power(top[-1], in.index);
       break;
-    case Op::add: --top; top[-1] = top[-1] + top[0]; break;
-    case Op::subtract: --top; top[-1] = top[-1] - top[0]; break;
-    case Op::multiply: --top; top[-1] = top[-1] * top[0]; break;
-    case Op::divide: --top; top[-1] = top[-1] / top[0]; break;
-    case Op::power: --top; top[-1] = pow(top[-1], top[0]); break;
-    case Op::min: --top; top[-1] = minimum(top[-1], top[0]); break;
-    case Op::max: --top; top[-1] = maximum(top[-1], top[0]); break;
-    case Op::atan2: --top; top[-1] = atan2(top[-1], top[0]); break;
+    case Op::add:
+      --top;
+      top[-1] = top[-1] + top[0];
+      break;
+    case Op::subtract:
+      --top;
+      top[-1] = top[-1] - top[0];
+      break;
+    case Op::multiply:
+      --top;
+      top[-1] = top[-1] * top[0];
+      break;
+    case Op::divide:
+      --top;
+      top[-1] = top[-1] / top[0];
+      break;
+    case Op::power:
+      --top;
+      top[-1] = pow(top[-1], top[0]);
+      break;
+    case Op::min:
+      --top;
+      top[-1] = minimum(top[-1], top[0]);
+      break;
+    case Op::max:
+      --top;
+      top[-1] = maximum(top[-1], top[0]);
+      break;
+    case Op::atan2:
+      --top;
+      top[-1] = atan2(top[-1], top[0]);
+      break;
   }
 }
 
 // The stack machine: `stack` has room for the deepest point of `code`.
 template <class T>
-T run(const std::vector<Expression::Instruction>& code, std::span<const double> point,
-      int seed, T* stack) {
+T run(const std::vector<Expression::Instruction>& code, std::span<const double> point, int seed, T* stack) {
   T* top = stack;  // one past the last operand
   for (const Expression::Instruction& in : code) apply<T>(in, point, seed, top);
   return stack[0];
 }
 
 template <class T>
-T run(const std::vector<Expression::Instruction>& code, int stack_size,
-      std::span<const double> point, int seed) {
+T run(const std::vector<Expression::Instruction>& code, int stack_size, std::span<const double> point, int seed) {
   constexpr int kInline = 32;  // nesting deeper than this is rare; it costs one allocation
   if (stack_size <= kInline) {
     std::array<T, kInline> stack;  // left uninitialised: every slot is written before it is read

@@ -16,8 +16,7 @@ Progress::Progress(double start_time, double end_time, bool enabled)
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
-Progress::Progress(double start_time, double end_time)
-    : Progress(start_time, end_time, isatty(STDOUT_FILENO) != 0) {}
+Progress::Progress(double start_time, double end_time) : Progress(start_time, end_time, isatty(STDOUT_FILENO) != 0) {}
 
 Progress::~Progress() { finish(); }
 

@@ -4,11 +4,10 @@
 //   - FlowModel  (flow.h): the Euler/Navier–Stokes flow on the fluid mesh, moved through the
 //     space mesh, sub-cycled inside the shell step (also without a flow: the mesh-motion tests);
 //   - PistonLoads (below): first-order piston theory from the shell's own motion.
+#include <Eigen/Core>
 #include <optional>
 #include <span>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "shellflow/core/archive.h"
 #include "shellflow/coupling/piston_theory.h"
@@ -18,7 +17,7 @@ namespace shellflow::coupling {
 
 /// What one shell step cost the flow.
 struct FlowStepReport {
-  int substeps = 0;          ///< fluid (or fluid-mesh) steps in the shell step
+  int substeps = 0;            ///< fluid (or fluid-mesh) steps in the shell step
   double stable_substeps = 0;  ///< the sub-steps stability asked for (auto: before rounding up)
   double mesh_seconds = 0.0;   ///< wall time of the mesh motion (space mesh, fluid nodes, wall velocity)
   double flow_seconds = 0.0;   ///< wall time of the flow steps (and the stability check)
@@ -34,8 +33,7 @@ class AerodynamicModel {
   virtual FlowStepReport advance(const ShellStepMotion& motion, double t_end) = 0;
   /// Pressure rise over the reference pressure at every shell load point, at the current
   /// time; (u, v) is the shell state at that time.
-  virtual void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
-                             std::span<double> dp) = 0;
+  virtual void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) = 0;
   /// Per load point: +1 where the shell normal (like V) points into the flow.
   virtual std::span<const double> sign() const = 0;
   /// Force of the gas (pressure minus the reference pressure) on the wet boundary from the

@@ -1,10 +1,10 @@
 #include "shellflow/coupling/flow.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cmath>
 #include <optional>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/mesh/quality.h"
@@ -12,8 +12,8 @@
 namespace shellflow::coupling {
 
 FlowModel::FlowModel(const mesh::Mesh& fluid_mesh, std::unique_ptr<fluid::FluidModel> flow,
-                     std::unique_ptr<motion::FluidMeshMover> mover, ShellStepMotion& motion,
-                     WallNodeMap wall, LoadPointMap loads, FlowModelOptions options)
+                     std::unique_ptr<motion::FluidMeshMover> mover, ShellStepMotion& motion, WallNodeMap wall,
+                     LoadPointMap loads, FlowModelOptions options)
     : mesh_(fluid_mesh),
       flow_(std::move(flow)),
       mover_(std::move(mover)),
@@ -34,8 +34,9 @@ FlowStepReport FlowModel::substeps_for(double dt) {
   FlowStepReport r;
   if (!flow_) {
     if (options_.substeps <= 0)
-      throw InputError("coupling.substeps: a run without a flow has no stable step to size the "
-                       "sub-steps by; give coupling.substeps as a number");
+      throw InputError(
+          "coupling.substeps: a run without a flow has no stable step to size the "
+          "sub-steps by; give coupling.substeps as a number");
     r.substeps = options_.substeps;
     return r;
   }
@@ -46,11 +47,11 @@ FlowStepReport FlowModel::substeps_for(double dt) {
     r.substeps = std::max(1, needed);
   } else {
     if (options_.substeps < needed)
-      throw SolverError(fmt::format(
-          "t = {:.6g} s: coupling.substeps = {} fluid steps per shell step is unstable here: the "
-          "stable fluid step at CFL {} is {:.4g} s, so the shell step of {:.4g} s needs at least "
-          "{} sub-steps; set coupling.substeps to {} or more (or auto)",
-          time_, options_.substeps, options_.cfl, stable, dt, needed, needed));
+      throw SolverError(
+          fmt::format("t = {:.6g} s: coupling.substeps = {} fluid steps per shell step is unstable here: the "
+                      "stable fluid step at CFL {} is {:.4g} s, so the shell step of {:.4g} s needs at least "
+                      "{} sub-steps; set coupling.substeps to {} or more (or auto)",
+                      time_, options_.substeps, options_.cfl, stable, dt, needed, needed));
     r.substeps = options_.substeps;
   }
   return r;
@@ -92,11 +93,11 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
         const mesh::QualitySummary q = mesh::summarize_quality(mesh_, x_);
         if (q.inverted > 0) {
           const Vec3 c = mesh::vertex_centroid(mesh_, q.worst_cell, x_);
-          throw SolverError(fmt::format(
-              "t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
-              "the shell moves too far for this mesh: refine the fluid or space mesh near the "
-              "panel or change the motion's IDW exponents",
-              t, q.worst_cell, c.x(), c.y(), c.z()));
+          throw SolverError(
+              fmt::format("t = {:.6g} s: the mesh motion inverts fluid element {} at ({:.4g}, {:.4g}, {:.4g}) m; "
+                          "the shell moves too far for this mesh: refine the fluid or space mesh near the "
+                          "panel or change the motion's IDW exponents",
+                          t, q.worst_cell, c.x(), c.y(), c.z()));
         }
       }
       time_ = t;

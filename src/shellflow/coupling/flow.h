@@ -22,8 +22,8 @@
 namespace shellflow::coupling {
 
 struct FlowModelOptions {
-  int substeps = 0;   ///< fluid steps per shell step; 0: auto, from the stable step
-  double cfl = 0.5;   ///< of the auto rule n_sub = ceil(dt_s / (cfl dt_stable))
+  int substeps = 0;  ///< fluid steps per shell step; 0: auto, from the stable step
+  double cfl = 0.5;  ///< of the auto rule n_sub = ceil(dt_s / (cfl dt_stable))
   /// Mesh velocity of the fluid step: false (default) w = (x^m - x^{m-1}) / dt_f, which
   /// keeps a uniform flow exactly uniform; true: the interpolated velocity of eq. 32.
   bool interpolated_mesh_velocity = false;
@@ -36,8 +36,8 @@ class FlowModel final : public AerodynamicModel {
   /// `flow`: null for a mesh-motion-only run. The model keeps references to mesh, motion
   /// and mover.
   FlowModel(const mesh::Mesh& fluid_mesh, std::unique_ptr<fluid::FluidModel> flow,
-            std::unique_ptr<motion::FluidMeshMover> mover, ShellStepMotion& motion,
-            WallNodeMap wall, LoadPointMap loads, FlowModelOptions options);
+            std::unique_ptr<motion::FluidMeshMover> mover, ShellStepMotion& motion, WallNodeMap wall,
+            LoadPointMap loads, FlowModelOptions options);
 
   std::string name() const override { return flow_ ? "euler" : "mesh_motion"; }
   /// On a failure (SolverError) the flow, the fluid mesh and the space mesh are put back to

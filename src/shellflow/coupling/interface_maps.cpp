@@ -1,10 +1,10 @@
 #include "shellflow/coupling/interface_maps.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <limits>
 #include <unordered_map>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/mesh/spatial_index.h"
@@ -28,9 +28,10 @@ FaceKey sorted(FaceKey k) {
 const mesh::PhysicalGroup& surface_group(const mesh::Mesh& fluid, std::string_view group) {
   const mesh::PhysicalGroup& g = fluid.group(group);  // throws naming the groups available
   if (g.dim != 2 || g.elements.type != mesh::ElementType::tri3)
-    throw_input_error("coupling: group '{}' of mesh '{}' is not a surface of 3-node triangles; "
-                      "name the fluid's wet boundary (the panel) as coupling.fluid_group",
-                      g.name, fluid.name);
+    throw_input_error(
+        "coupling: group '{}' of mesh '{}' is not a surface of 3-node triangles; "
+        "name the fluid's wet boundary (the panel) as coupling.fluid_group",
+        g.name, fluid.name);
   return g;
 }
 
@@ -50,8 +51,8 @@ std::vector<WetFace> oriented_wet_faces(const mesh::Mesh& fluid, std::string_vie
   for (Index e = 0; e < fluid.num_cells(); ++e) {
     const auto t = fluid.cells.element(e);
     for (int opp = 0; opp < 4; ++opp) {
-      const auto it = index.find(
-          sorted({t[std::size_t(tet_faces[opp][0])], t[std::size_t(tet_faces[opp][1])], t[std::size_t(tet_faces[opp][2])]}));
+      const auto it = index.find(sorted(
+          {t[std::size_t(tet_faces[opp][0])], t[std::size_t(tet_faces[opp][1])], t[std::size_t(tet_faces[opp][2])]}));
       if (it == index.end()) continue;
       auto& face = faces[it->second].nodes;
       const Vec3& a = fluid.nodes[std::size_t(face[0])];
@@ -62,15 +63,15 @@ std::vector<WetFace> oriented_wet_faces(const mesh::Mesh& fluid, std::string_vie
   }
   for (std::size_t f = 0; f < faces.size(); ++f)
     if (!found[f])
-      throw_input_error("coupling: triangle ({} {} {}) of group '{}' in mesh '{}' is not a face of "
-                        "any tetrahedron; regenerate the mesh with the group on the volume's "
-                        "boundary",
-                        faces[f].nodes[0], faces[f].nodes[1], faces[f].nodes[2], g.name, fluid.name);
+      throw_input_error(
+          "coupling: triangle ({} {} {}) of group '{}' in mesh '{}' is not a face of "
+          "any tetrahedron; regenerate the mesh with the group on the volume's "
+          "boundary",
+          faces[f].nodes[0], faces[f].nodes[1], faces[f].nodes[2], g.name, fluid.name);
   return faces;
 }
 
-WallNodeMap map_wall_nodes(const mesh::Mesh& fluid, std::string_view group,
-                           const shell::ShellLocator& locator) {
+WallNodeMap map_wall_nodes(const mesh::Mesh& fluid, std::string_view group, const shell::ShellLocator& locator) {
   const mesh::PhysicalGroup& g = surface_group(fluid, group);
   WallNodeMap map;
   map.group = g.name;
@@ -96,8 +97,7 @@ void snap_wall_nodes(mesh::Mesh& fluid, const WallNodeMap& map, const shell::She
     fluid.nodes[std::size_t(map.nodes[i])] = shell::mid_surface_position(shell, map.points[i], zero);
 }
 
-LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& fluid,
-                             std::string_view group) {
+LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& fluid, std::string_view group) {
   const std::vector<WetFace> faces = oriented_wet_faces(fluid, group);
   mesh::ElementBlock block;
   block.type = mesh::ElementType::tri3;
@@ -128,30 +128,28 @@ LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& f
   map.fluid_nodes.erase(std::unique(map.fluid_nodes.begin(), map.fluid_nodes.end()), map.fluid_nodes.end());
   for (std::size_t k = 0; k < points.size(); ++k)
     for (int i = 0; i < 3; ++i)
-      map.slots[k][std::size_t(i)] = Index(
-          std::lower_bound(map.fluid_nodes.begin(), map.fluid_nodes.end(), nodes[k][std::size_t(i)]) -
-          map.fluid_nodes.begin());
+      map.slots[k][std::size_t(i)] =
+          Index(std::lower_bound(map.fluid_nodes.begin(), map.fluid_nodes.end(), nodes[k][std::size_t(i)]) -
+                map.fluid_nodes.begin());
   return map;
 }
 
 void check_gap(const GapReport& gap, double max_gap, std::string_view what) {
   if (gap.max_gap <= max_gap) return;
   const bool wall = what.starts_with("fluid");
-  throw_input_error("{}: the largest gap is {:.3e} m at {} {} ({} {}) at ({:.6g}, {:.6g}, {:.6g}) m, "
-                    "above coupling.max_gap = {:.3e} m: the shell and fluid meshes do not describe "
-                    "the same wet surface; check the geometry and coupling.fluid_group, or raise max_gap",
-                    what, gap.max_gap, wall ? "fluid node" : "shell load point", gap.worst,
-                    wall ? "Gmsh node tag" : "in shell element", gap.tag, gap.where.x(), gap.where.y(),
-                    gap.where.z(), max_gap);
+  throw_input_error(
+      "{}: the largest gap is {:.3e} m at {} {} ({} {}) at ({:.6g}, {:.6g}, {:.6g}) m, "
+      "above coupling.max_gap = {:.3e} m: the shell and fluid meshes do not describe "
+      "the same wet surface; check the geometry and coupling.fluid_group, or raise max_gap",
+      what, gap.max_gap, wall ? "fluid node" : "shell load point", gap.worst,
+      wall ? "Gmsh node tag" : "in shell element", gap.tag, gap.where.x(), gap.where.y(), gap.where.z(), max_gap);
 }
 
-void transfer_to_load_points(const LoadPointMap& map, std::span<const double> values,
-                             std::span<double> out) {
+void transfer_to_load_points(const LoadPointMap& map, std::span<const double> values, std::span<double> out) {
   for (std::size_t k = 0; k < map.slots.size(); ++k) {
     const auto& s = map.slots[k];
     const auto& w = map.weights[k];
-    out[k] = w[0] * values[std::size_t(s[0])] + w[1] * values[std::size_t(s[1])] +
-             w[2] * values[std::size_t(s[2])];
+    out[k] = w[0] * values[std::size_t(s[0])] + w[1] * values[std::size_t(s[1])] + w[2] * values[std::size_t(s[2])];
   }
 }
 

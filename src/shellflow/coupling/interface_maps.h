@@ -26,17 +26,17 @@ namespace shellflow::coupling {
 /// The largest gap of a map and where it occurs.
 struct GapReport {
   double max_gap = 0.0;
-  Index worst = -1;        ///< fluid node (wall map) or shell load point (load map)
-  std::size_t tag = 0;     ///< Gmsh tag of that fluid node (wall map), shell element (load map)
+  Index worst = -1;     ///< fluid node (wall map) or shell load point (load map)
+  std::size_t tag = 0;  ///< Gmsh tag of that fluid node (wall map), shell element (load map)
   Vec3 where = Vec3::Zero();
 };
 
 /// Fluid wet-boundary nodes -> closest points of the shell mid-surface.
 struct WallNodeMap {
-  std::string group;                     ///< fluid wet group
-  std::vector<Index> nodes;              ///< fluid nodes of the group (sorted, as in the mesh group)
+  std::string group;                      ///< fluid wet group
+  std::vector<Index> nodes;               ///< fluid nodes of the group (sorted, as in the mesh group)
   std::vector<shell::ShellPoint> points;  ///< closest shell point of each node
-  std::vector<double> gaps;              ///< distance node -> shell point before snapping
+  std::vector<double> gaps;               ///< distance node -> shell point before snapping
   GapReport gap;
 };
 
@@ -46,7 +46,7 @@ struct LoadPointMap {
   std::vector<std::array<Index, 3>> slots;     ///< per load point: its triangle's vertices as
                                                ///< positions in fluid_nodes
   std::vector<std::array<double, 3>> weights;  ///< barycentric weights (sum 1)
-  std::vector<double> sign;  ///< +1 when the shell normal (like V) points into the fluid, else -1
+  std::vector<double> sign;                    ///< +1 when the shell normal (like V) points into the fluid, else -1
   std::vector<double> gaps;
   GapReport gap;
 };
@@ -62,15 +62,13 @@ struct WetFace {
 std::vector<WetFace> oriented_wet_faces(const mesh::Mesh& fluid, std::string_view group);
 
 /// Maps every node of the fluid group `group` to its closest shell point.
-WallNodeMap map_wall_nodes(const mesh::Mesh& fluid, std::string_view group,
-                           const shell::ShellLocator& locator);
+WallNodeMap map_wall_nodes(const mesh::Mesh& fluid, std::string_view group, const shell::ShellLocator& locator);
 
 /// Moves every mapped fluid node exactly onto its shell point (undeformed shell).
 void snap_wall_nodes(mesh::Mesh& fluid, const WallNodeMap& map, const shell::ShellModel& shell);
 
 /// Maps every shell load point to the closest point of the fluid group's triangles.
-LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& fluid,
-                             std::string_view group);
+LoadPointMap map_load_points(const shell::ShellModel& shell, const mesh::Mesh& fluid, std::string_view group);
 
 /// Throws InputError when `gap` exceeds max_gap: names the map, the worst entity, its gap
 /// and the fix.
@@ -78,7 +76,6 @@ void check_gap(const GapReport& gap, double max_gap, std::string_view what);
 
 /// Value at every load point of a fluid field given at map.fluid_nodes (e.g. p):
 /// out_k = sum_i w_ki f(slot_ki).
-void transfer_to_load_points(const LoadPointMap& map, std::span<const double> values_at_nodes,
-                             std::span<double> out);
+void transfer_to_load_points(const LoadPointMap& map, std::span<const double> values_at_nodes, std::span<double> out);
 
 }  // namespace shellflow::coupling

@@ -1,15 +1,14 @@
 #include "shellflow/coupling/linear_flutter.h"
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <numbers>
+#include <fmt/format.h>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
-
-#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
 
 #include "shellflow/core/error.h"
 
@@ -32,8 +31,9 @@ LinearFlutterSystem::LinearFlutterSystem(const shell::ShellModel& model, const P
                                          const shell::ModalOptions& options)
     : modal_(modes > 0) {
   if (model.has_local_frames())
-    throw_input_error("linear flutter analysis: supports along rotated directions are not supported yet; "
-                      "use supports along the global axes");
+    throw_input_error(
+        "linear flutter analysis: supports along rotated directions are not supported yet; "
+        "use supports along the global axes");
   shell::SparseMatrix A1, D1;
   theory.matrices(A1, D1, 1.0, 1.0);
   if (modal_) {
@@ -163,12 +163,13 @@ double FlutterSetting::mass_ratio_over_mach(double shell_density, double thickne
   return density * length / (shell_density * thickness * mach);
 }
 
-FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting,
-                           FlutterParameter parameter, double lo, double hi, int points,
-                           double relative_tolerance, int tracked_roots) {
+FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting, FlutterParameter parameter,
+                           double lo, double hi, int points, double relative_tolerance, int tracked_roots) {
   if (!(hi > lo) || points < 2)
-    throw_input_error("linear flutter analysis: the range [{}, {}] with {} points is empty; give lo < hi "
-                      "and at least 2 points", lo, hi, points);
+    throw_input_error(
+        "linear flutter analysis: the range [{}, {}] with {} points is empty; give lo < hi "
+        "and at least 2 points",
+        lo, hi, points);
   FlutterSweep sweep;
   sweep.parameter = parameter;
   const auto evaluate = [&](double value) {

@@ -18,12 +18,11 @@
 // aerodynamic damping grows like sqrt(lambda), Dowell's fixed mu/M), or drops the damping
 // (mu/M -> 0, the classical coalescence values). A sweep in Mach keeps rho and p of the case
 // (fixed altitude): U = M sqrt(gamma p / rho).
+#include <Eigen/Core>
 #include <complex>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "shellflow/coupling/piston_theory.h"
 #include "shellflow/shell/modal.h"
@@ -71,12 +70,12 @@ struct FlutterSetting {
   double density = 0.0;            ///< rho_inf [kg/m^3]
   double pressure = 0.0;           ///< p_inf [Pa]
   double gamma = 1.4;
-  double mach = 0.0;               ///< the case's Mach number
+  double mach = 0.0;                ///< the case's Mach number
   bool aerodynamic_damping = true;  ///< false: mu/M -> 0 (lambda sweeps only)
 
   /// The piston-theory coefficients at a parameter value.
   std::pair<double, double> coefficients(FlutterParameter p, double value) const;
-  double lambda_of_mach(double mach) const;   ///< at fixed rho, p
+  double lambda_of_mach(double mach) const;  ///< at fixed rho, p
   /// The Mach number above sqrt(2) (where lambda grows with M) at fixed rho, p; NaN when
   /// lambda is below the minimum of lambda(M) (at M = sqrt(2)).
   double mach_of_lambda(double lambda) const;
@@ -91,7 +90,7 @@ struct FlutterPoint {
 };
 
 struct FlutterCritical {
-  double value = 0.0;         ///< the parameter at the boundary
+  double value = 0.0;  ///< the parameter at the boundary
   double lambda = 0.0, mach = 0.0;
   double frequency_hz = 0.0;  ///< of the root that crosses
   int bisections = 0;
@@ -108,9 +107,8 @@ struct FlutterSweep {
 /// `relative_tolerance` of the parameter. `tracked_roots` > 0: only the that many roots of
 /// lowest frequency count (and are kept in the points) — for the full system, whose highest
 /// roots are the mesh's thickness-stretch modes.
-FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting,
-                           FlutterParameter parameter, double lo, double hi, int points,
-                           double relative_tolerance = 1e-9, int tracked_roots = 0);
+FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting, FlutterParameter parameter,
+                           double lo, double hi, int points, double relative_tolerance = 1e-9, int tracked_roots = 0);
 
 /// The panel length along `direction`: the extent of the shell's nodes.
 double panel_length(const shell::ShellModel& model, const Vec3& direction);

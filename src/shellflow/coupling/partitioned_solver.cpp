@@ -8,9 +8,8 @@
 
 namespace shellflow::coupling {
 
-PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSolver& shell,
-                                     AerodynamicModel& flow, ShellStepMotion& motion,
-                                     PartitionedOptions options)
+PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSolver& shell, AerodynamicModel& flow,
+                                     ShellStepMotion& motion, PartitionedOptions options)
     : model_(model), shell_(shell), flow_(flow), motion_(motion), options_(options), basis_(model) {
   const std::size_t n = model.load_points().size();
   current_.assign(n, 0.0);
@@ -19,8 +18,7 @@ PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSol
   applied_.assign(n, 0.0);
   point_pressure_.assign(n, 0.0);
   if (flow.sign().size() != n)
-    throw Error(fmt::format("coupling: the aerodynamic model has {} load points, the shell {}",
-                            flow.sign().size(), n));
+    throw Error(fmt::format("coupling: the aerodynamic model has {} load points, the shell {}", flow.sign().size(), n));
   motion_.set_state(shell.time(), shell.displacement(), shell.velocity());
   flow_.pressure_rise(shell.displacement(), shell.velocity(), current_);
   if (!options_.monolithic) {

@@ -38,8 +38,8 @@ struct CouplingStepReport {
   int newton_iterations = 0;
   int coupling_iterations = 0;
   FlowStepReport flow;
-  double shell_seconds = 0.0;     ///< wall time of the shell step(s)
-  double transfer_seconds = 0.0;  ///< wall time of the load transfer and the force balance
+  double shell_seconds = 0.0;       ///< wall time of the shell step(s)
+  double transfer_seconds = 0.0;    ///< wall time of the load transfer and the force balance
   Vec3 shell_force = Vec3::Zero();  ///< resultant of the exchanged pressure on the shell
   std::optional<Vec3> fluid_force;  ///< the same from the fluid side (when there is a mesh)
 };

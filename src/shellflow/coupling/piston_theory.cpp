@@ -9,11 +9,13 @@ namespace shellflow::coupling {
 PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow)
     : model_(model), flow_(flow), basis_(model) {
   if (!(flow_.mach > 1.0) || !std::isfinite(flow_.mach))
-    throw_input_error("piston theory needs a supersonic free stream, got Mach {}; use "
-                      "fluid.model: euler below Mach 1", flow_.mach);
+    throw_input_error(
+        "piston theory needs a supersonic free stream, got Mach {}; use "
+        "fluid.model: euler below Mach 1",
+        flow_.mach);
   if (!(flow_.density > 0.0) || !(flow_.speed > 0.0))
-    throw_input_error("piston theory: free-stream density {} kg/m^3 and speed {} m/s must be positive",
-                      flow_.density, flow_.speed);
+    throw_input_error("piston theory: free-stream density {} kg/m^3 and speed {} m/s must be positive", flow_.density,
+                      flow_.speed);
   flow_.direction.normalize();
   flow_.wet_normal.normalize();
   const double m2 = flow_.mach * flow_.mach;
@@ -43,8 +45,7 @@ PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow
   }
 }
 
-void PistonTheory::pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v,
-                                 std::span<double> dp) const {
+void PistonTheory::pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) const {
   const auto n = static_cast<std::size_t>(basis_.n);
   for (std::size_t k = 0; k < normal_.size(); ++k) {
     Vec3 du_dx = Vec3::Zero(), vel = Vec3::Zero();

@@ -13,10 +13,9 @@
 //   D_jl = (rho U c / beta) sum_k w_k phi_j phi_l   N_k N_k^T,   c = (M^2 - 2)/(M^2 - 1),
 // independent of which face is wetted (sign_k^2 = 1). A is not symmetric: it is what makes
 // the panel flutter.
+#include <Eigen/Core>
 #include <span>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "shellflow/core/types.h"
 #include "shellflow/coupling/load_point_basis.h"
@@ -25,11 +24,11 @@
 namespace shellflow::coupling {
 
 struct PistonTheoryFlow {
-  double density = 0.0;            ///< rho_inf [kg/m^3]
-  double speed = 0.0;              ///< U [m/s]
-  double mach = 0.0;               ///< M > 1
-  Vec3 direction = Vec3::UnitX();  ///< unit flow direction (tangent to the panel)
-  Vec3 wet_normal = Vec3::UnitY(); ///< points from the shell into the flow (picks the wetted face)
+  double density = 0.0;             ///< rho_inf [kg/m^3]
+  double speed = 0.0;               ///< U [m/s]
+  double mach = 0.0;                ///< M > 1
+  Vec3 direction = Vec3::UnitX();   ///< unit flow direction (tangent to the panel)
+  Vec3 wet_normal = Vec3::UnitY();  ///< points from the shell into the flow (picks the wetted face)
 };
 
 class PistonTheory {

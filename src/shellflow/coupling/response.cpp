@@ -1,7 +1,5 @@
 #include "shellflow/coupling/response.h"
 
-#include "shellflow/core/json.h"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +9,8 @@
 #include <stdexcept>
 #include <tuple>
 #include <utility>
+
+#include "shellflow/core/json.h"
 
 namespace shellflow::coupling {
 
@@ -193,8 +193,8 @@ ResponseAnalysis analyse_response(std::span<const double> t, std::span<const dou
   a.peak_times = fit.peak_times;
   a.peak_values = fit.peak_values;
   // fit_response's zeros mean "not measured" here: NaN, so that they cannot pass for a rate.
-  a.frequency_hz = fit.extrema >= 3 ? crossing_frequency(t, w, half_cycle_peaks(t, w, options.t_start, options.t_end))
-                                    : nan;
+  a.frequency_hz =
+      fit.extrema >= 3 ? crossing_frequency(t, w, half_cycle_peaks(t, w, options.t_start, options.t_end)) : nan;
   a.growth_rate = fit.extrema >= 3 ? fit.growth_rate : nan;
   a.growth_rate_error = fit.extrema >= 3 ? fit.growth_rate_error : nan;
   a.last_amplitude = a.peak_values.empty() ? nan : std::abs(a.peak_values.back());
@@ -249,10 +249,11 @@ std::string json_array(const std::vector<double>& x) {
 std::string response_to_json(const ResponseAnalysis& a, std::string_view probe) {
   std::string lco = "null";
   if (a.lco)
-    lco = fmt::format("{{\"amplitude\": {}, \"amplitude_spread\": {}, \"frequency_hz\": {}, "
-                      "\"frequency_spread\": {}, \"cycles\": {}}}",
-                      json_number(a.lco->amplitude), json_number(a.lco->amplitude_spread),
-                      json_number(a.lco->frequency_hz), json_number(a.lco->frequency_spread), a.lco->cycles);
+    lco = fmt::format(
+        "{{\"amplitude\": {}, \"amplitude_spread\": {}, \"frequency_hz\": {}, "
+        "\"frequency_spread\": {}, \"cycles\": {}}}",
+        json_number(a.lco->amplitude), json_number(a.lco->amplitude_spread), json_number(a.lco->frequency_hz),
+        json_number(a.lco->frequency_spread), a.lco->cycles);
   return fmt::format(
       "{{\"probe\": {}, \"window\": [{}, {}], \"frequency_hz\": {}, \"growth_rate\": {}, "
       "\"growth_rate_error\": {}, \"extrema\": {}, \"last_amplitude\": {}, \"envelope_change\": {}, "

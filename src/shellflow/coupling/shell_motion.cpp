@@ -1,8 +1,8 @@
 #include "shellflow/coupling/shell_motion.h"
 
-#include <algorithm>
-
 #include <fmt/format.h>
+
+#include <algorithm>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fem/reference_element.h"
@@ -24,9 +24,8 @@ ShellStepMotion::ShellStepMotion(const shell::ShellModel& model, double max_gap)
   set_state(0.0, zero, zero);
 }
 
-void ShellStepMotion::set_window(double t0, double dt, const Eigen::VectorXd& u0,
-                                 const Eigen::VectorXd& v0, const Eigen::VectorXd& u1,
-                                 const Eigen::VectorXd& v1) {
+void ShellStepMotion::set_window(double t0, double dt, const Eigen::VectorXd& u0, const Eigen::VectorXd& v0,
+                                 const Eigen::VectorXd& u1, const Eigen::VectorXd& v1) {
   t0_ = t0;
   dt_ = dt;
   ++window_id_;
@@ -47,10 +46,11 @@ int ShellStepMotion::register_points(std::span<const Vec3> initial_positions) {
     const shell::ClosestPoint c = locator.closest(initial_positions[i]);
     if (c.distance > max_gap_) {
       const Vec3& p = initial_positions[i];
-      throw_input_error("coupling: a point of the moving boundary at ({:.6g}, {:.6g}, {:.6g}) lies "
-                        "{:.3e} m from the shell mid-surface, above coupling.max_gap = {:.3e} m; "
-                        "the space mesh's / fluid mesh's interface groups must lie on the shell",
-                        p.x(), p.y(), p.z(), c.distance, max_gap_);
+      throw_input_error(
+          "coupling: a point of the moving boundary at ({:.6g}, {:.6g}, {:.6g}) lies "
+          "{:.3e} m from the shell mid-surface, above coupling.max_gap = {:.3e} m; "
+          "the space mesh's / fluid mesh's interface groups must lie on the shell",
+          p.x(), p.y(), p.z(), c.distance, max_gap_);
     }
     points[i] = c.point;
   }
@@ -98,10 +98,14 @@ void ShellStepMotion::time_coefficients(double time, std::span<double> c, std::s
 
 const std::vector<Vec3>& ShellStepMotion::mode_field(int k) const {
   switch (k) {
-    case 0: return x0_;
-    case 1: return v0_;
-    case 2: return x1_;
-    case 3: return v1_;
+    case 0:
+      return x0_;
+    case 1:
+      return v0_;
+    case 2:
+      return x1_;
+    case 3:
+      return v1_;
   }
   throw Error(fmt::format("ShellStepMotion: no time mode {} (4 modes)", k));
 }
@@ -120,8 +124,7 @@ void ShellStepMotion::evaluate_time_mode(int handle, int k, std::span<Vec3> fiel
   }
 }
 
-void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displacement,
-                               std::span<Vec3> velocity) const {
+void ShellStepMotion::evaluate(int handle, double time, std::span<Vec3> displacement, std::span<Vec3> velocity) const {
   const PointSet& set = sets_.at(static_cast<std::size_t>(handle));
   const auto n = static_cast<std::size_t>(nodes_per_element_);
   const std::size_t count = set.nodes.size() / n;

@@ -5,10 +5,9 @@
 // initial positions and located once on the shell mid-surface (closest point); their
 // displacement and velocity are then sums over the element's nodes with precomputed shape
 // values, so an evaluation costs N multiply-adds per point (N = 10 for cubic triangles).
+#include <Eigen/Core>
 #include <span>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "shellflow/motion/boundary_motion.h"
 #include "shellflow/shell/shell_model.h"
@@ -23,8 +22,8 @@ class ShellStepMotion final : public motion::BoundaryMotion {
 
   /// The window of one shell step: displacement u and velocity v (7 per node; the position
   /// rows are used) at t0 and at t0 + dt. Before the first call the shell is at rest.
-  void set_window(double t0, double dt, const Eigen::VectorXd& u0, const Eigen::VectorXd& v0,
-                  const Eigen::VectorXd& u1, const Eigen::VectorXd& v1);
+  void set_window(double t0, double dt, const Eigen::VectorXd& u0, const Eigen::VectorXd& v0, const Eigen::VectorXd& u1,
+                  const Eigen::VectorXd& v1);
   /// A window of zero length: the shell stands at state (u, v) (at rest if v = 0).
   void set_state(double t, const Eigen::VectorXd& u, const Eigen::VectorXd& v);
 
@@ -32,8 +31,7 @@ class ShellStepMotion final : public motion::BoundaryMotion {
   /// Registers points given directly as shell points (e.g. the interface map's).
   int register_shell_points(std::span<const shell::ShellPoint> points);
   /// Displacement (Hermite) and velocity (its time derivative) at t; t is clamped to the window.
-  void evaluate(int handle, double time, std::span<Vec3> displacement,
-                std::span<Vec3> velocity) const override;
+  void evaluate(int handle, double time, std::span<Vec3> displacement, std::span<Vec3> velocity) const override;
 
   /// The Hermite window as 4 time modes: the interpolated x0, v0, x1, v1 of the points, with
   /// coefficients h00, dt h10, h01, dt h11 (and their time derivatives); a window of zero
@@ -48,8 +46,8 @@ class ShellStepMotion final : public motion::BoundaryMotion {
 
  private:
   struct PointSet {
-    std::vector<Index> nodes;   ///< N per point
-    std::vector<double> phi;    ///< N per point
+    std::vector<Index> nodes;  ///< N per point
+    std::vector<double> phi;   ///< N per point
   };
   const shell::ShellModel& model_;
   double max_gap_;

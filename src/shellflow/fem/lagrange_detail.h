@@ -38,9 +38,7 @@ struct LineSimplex {
     L[1] = 0.5 * (1.0 + xi[0]);
   }
   /// g = sum_m P[m] dL_m/dxi.
-  static void chain_gradient(const std::array<double, 2>& P, double* g) {
-    g[0] = 0.5 * (P[1] - P[0]);
-  }
+  static void chain_gradient(const std::array<double, 2>& P, double* g) { g[0] = 0.5 * (P[1] - P[0]); }
   /// h = sum_mn H[m][n] dL_m/dxi dL_n/dxi.
   static void chain_hessian(const std::array<std::array<double, 2>, 2>& H, double* h) {
     h[0] = 0.25 * ((H[1][1] - H[0][1]) - (H[1][0] - H[0][0]));
@@ -71,8 +69,7 @@ struct UnitSimplex {
   /// h is D x D row-major.
   static void chain_hessian(const std::array<std::array<double, D + 1>, D + 1>& H, double* h) {
     for (int k = 0; k < D; ++k)
-      for (int l = 0; l < D; ++l)
-        h[k * D + l] = (H[k + 1][l + 1] - H[0][l + 1]) - (H[k + 1][0] - H[0][0]);
+      for (int l = 0; l < D; ++l) h[k * D + l] = (H[k + 1][l + 1] - H[0][l + 1]) - (H[k + 1][0] - H[0][0]);
   }
 };
 
@@ -156,9 +153,15 @@ constexpr std::array<double, Simplex::dim> node_position(NodeSpec s) {
   const auto& v = Simplex::vertices;
   for (int k = 0; k < Simplex::dim; ++k) {
     switch (s.kind) {
-      case NodeKind::vertex: x[k] = v[s.a][k]; break;
-      case NodeKind::edge: x[k] = ((P - 1) * v[s.a][k] + v[s.b][k]) / P; break;
-      case NodeKind::face: x[k] = (v[s.a][k] + v[s.b][k] + v[s.c][k]) / 3.0; break;
+      case NodeKind::vertex:
+        x[k] = v[s.a][k];
+        break;
+      case NodeKind::edge:
+        x[k] = ((P - 1) * v[s.a][k] + v[s.b][k]) / P;
+        break;
+      case NodeKind::face:
+        x[k] = (v[s.a][k] + v[s.b][k] + v[s.c][k]) / 3.0;
+        break;
     }
   }
   return x;

@@ -1,14 +1,13 @@
 #include "shellflow/fem/quadrature.h"
 
+#include <Eigen/Dense>
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <mutex>
 #include <numbers>
 #include <stdexcept>
-
-#include <Eigen/Dense>
-#include <Eigen/Eigenvalues>
 
 #include "shellflow/core/error.h"
 
@@ -61,13 +60,20 @@ struct OrbitShape {
 OrbitShape orbit_shape(Orbit o) {
   const Affine a{0, 1, 0}, b{0, 0, 1};
   switch (o) {
-    case Orbit::s3: return {0, {0, 0, 0}, {{1.0 / 3.0, 0, 0}}};
-    case Orbit::s21: return {1, {0, 0, 1}, {a, {1, -2, 0}}};
-    case Orbit::s111: return {2, {0, 1, 2}, {a, b, {1, -1, -1}}};
-    case Orbit::s4: return {0, {0, 0, 0, 0}, {{0.25, 0, 0}}};
-    case Orbit::s31: return {1, {0, 0, 0, 1}, {a, {1, -3, 0}}};
-    case Orbit::s22: return {1, {0, 0, 1, 1}, {a, {0.5, -1, 0}}};
-    case Orbit::s211: return {2, {0, 0, 1, 2}, {a, b, {1, -2, -1}}};
+    case Orbit::s3:
+      return {0, {0, 0, 0}, {{1.0 / 3.0, 0, 0}}};
+    case Orbit::s21:
+      return {1, {0, 0, 1}, {a, {1, -2, 0}}};
+    case Orbit::s111:
+      return {2, {0, 1, 2}, {a, b, {1, -1, -1}}};
+    case Orbit::s4:
+      return {0, {0, 0, 0, 0}, {{0.25, 0, 0}}};
+    case Orbit::s31:
+      return {1, {0, 0, 0, 1}, {a, {1, -3, 0}}};
+    case Orbit::s22:
+      return {1, {0, 0, 1, 1}, {a, {0.5, -1, 0}}};
+    case Orbit::s211:
+      return {2, {0, 0, 1, 2}, {a, b, {1, -2, -1}}};
   }
   throw std::logic_error("unknown orbit");
 }
@@ -93,8 +99,7 @@ QuadratureRule symmetric_rule(int dim, int degree, const std::vector<OrbitStart>
   std::vector<double> u;  // unknowns: per orbit its parameters, then its weight
   for (const auto& s : start) {
     OrbitShape shape = orbit_shape(s.orbit);
-    if (static_cast<int>(shape.labels.size()) != dim + 1)
-      throw std::logic_error("orbit of the wrong dimension");
+    if (static_cast<int>(shape.labels.size()) != dim + 1) throw std::logic_error("orbit of the wrong dimension");
     OrbitPoints op{shape.num_params, {}};
     std::vector<int> perm = shape.labels;
     do {
@@ -186,8 +191,10 @@ QuadratureRule symmetric_rule(int dim, int degree, const std::vector<OrbitStart>
 // and interior points; S21(a) = (a, a, 1-2a), S111(a, b) = (a, b, 1-a-b).
 QuadratureRule symmetric_triangle_rule(int degree) {
   switch (degree) {
-    case 1: return symmetric_rule(2, 1, {{Orbit::s3, 0, 0, 1.0}});
-    case 2: return symmetric_rule(2, 2, {{Orbit::s21, 1.0 / 6.0, 0, 1.0 / 3.0}});
+    case 1:
+      return symmetric_rule(2, 1, {{Orbit::s3, 0, 0, 1.0}});
+    case 2:
+      return symmetric_rule(2, 2, {{Orbit::s21, 1.0 / 6.0, 0, 1.0 / 3.0}});
     case 4:
       return symmetric_rule(2, 4,
                             {{Orbit::s21, 0.445948490915965, 0, 0.223381589678011},
@@ -198,20 +205,19 @@ QuadratureRule symmetric_triangle_rule(int degree) {
                              {Orbit::s21, 0.470142064105115, 0, 0.132394152788506},
                              {Orbit::s21, 0.101286507323456, 0, 0.125939180544827}});
     case 6:
-      return symmetric_rule(
-          2, 6,
-          {{Orbit::s21, 0.249286745170910, 0, 0.116786275726379},
-           {Orbit::s21, 0.063089014491502, 0, 0.050844906370207},
-           {Orbit::s111, 0.053145049844817, 0.310352451033784, 0.082851075618374}});
+      return symmetric_rule(2, 6,
+                            {{Orbit::s21, 0.249286745170910, 0, 0.116786275726379},
+                             {Orbit::s21, 0.063089014491502, 0, 0.050844906370207},
+                             {Orbit::s111, 0.053145049844817, 0.310352451033784, 0.082851075618374}});
     case 8:
-      return symmetric_rule(
-          2, 8,
-          {{Orbit::s3, 0, 0, 0.144315607677787},
-           {Orbit::s21, 0.459292588292723, 0, 0.095091634267285},
-           {Orbit::s21, 0.170569307751760, 0, 0.103217370534718},
-           {Orbit::s21, 0.050547228317031, 0, 0.032458497623198},
-           {Orbit::s111, 0.008394777409958, 0.263112829634638, 0.027230314174435}});
-    default: throw std::logic_error("no symmetric triangle rule of this degree");
+      return symmetric_rule(2, 8,
+                            {{Orbit::s3, 0, 0, 0.144315607677787},
+                             {Orbit::s21, 0.459292588292723, 0, 0.095091634267285},
+                             {Orbit::s21, 0.170569307751760, 0, 0.103217370534718},
+                             {Orbit::s21, 0.050547228317031, 0, 0.032458497623198},
+                             {Orbit::s111, 0.008394777409958, 0.263112829634638, 0.027230314174435}});
+    default:
+      throw std::logic_error("no symmetric triangle rule of this degree");
   }
 }
 
@@ -220,7 +226,8 @@ QuadratureRule symmetric_triangle_rule(int degree) {
 // S22(a) = (a, a, 1/2-a, 1/2-a), S211(a, b) = (a, a, b, 1-2a-b).
 QuadratureRule symmetric_tetrahedron_rule(int degree) {
   switch (degree) {
-    case 1: return symmetric_rule(3, 1, {{Orbit::s4, 0, 0, 1.0}});
+    case 1:
+      return symmetric_rule(3, 1, {{Orbit::s4, 0, 0, 1.0}});
     case 2:
       return symmetric_rule(3, 2, {{Orbit::s31, (5.0 - std::sqrt(5.0)) / 20.0, 0, 0.25}});
     case 5:
@@ -229,13 +236,13 @@ QuadratureRule symmetric_tetrahedron_rule(int degree) {
                              {Orbit::s31, 0.3108859192633006, 0, 0.1126879257180159},
                              {Orbit::s22, 0.0455037041256496, 0, 0.0425460207770815}});
     case 6:
-      return symmetric_rule(
-          3, 6,
-          {{Orbit::s31, 0.214602871259151684, 0, 0.0399227502581679},
-           {Orbit::s31, 0.0406739585346113397, 0, 0.0100772110553207},
-           {Orbit::s31, 0.322337890142275646, 0, 0.0553571815436544},
-           {Orbit::s211, 0.0636610018750175299, 0.269672331458315867, 0.0482142857142857}});
-    default: throw std::logic_error("no symmetric tetrahedron rule of this degree");
+      return symmetric_rule(3, 6,
+                            {{Orbit::s31, 0.214602871259151684, 0, 0.0399227502581679},
+                             {Orbit::s31, 0.0406739585346113397, 0, 0.0100772110553207},
+                             {Orbit::s31, 0.322337890142275646, 0, 0.0553571815436544},
+                             {Orbit::s211, 0.0636610018750175299, 0.269672331458315867, 0.0482142857142857}});
+    default:
+      throw std::logic_error("no symmetric tetrahedron rule of this degree");
   }
 }
 
@@ -328,16 +335,14 @@ QuadratureRule gauss_jacobi_rule(int n, double alpha, double beta) {
   const double ab = alpha + beta;
   for (int k = 0; k < n; ++k) {
     const double s = 2.0 * k + ab;
-    diag[k] = k == 0 ? (beta - alpha) / (ab + 2.0)
-                     : (beta * beta - alpha * alpha) / (s * (s + 2.0));
+    diag[k] = k == 0 ? (beta - alpha) / (ab + 2.0) : (beta * beta - alpha * alpha) / (s * (s + 2.0));
   }
   for (int k = 1; k < n; ++k) {
     const double s = 2.0 * k + ab;
-    sub[k - 1] = std::sqrt(4.0 * k * (k + alpha) * (k + beta) * (k + ab) /
-                           (s * s * (s + 1.0) * (s - 1.0)));
+    sub[k - 1] = std::sqrt(4.0 * k * (k + alpha) * (k + beta) * (k + ab) / (s * s * (s + 1.0) * (s - 1.0)));
   }
-  const double mu0 = std::pow(2.0, ab + 1.0) * std::tgamma(alpha + 1.0) *
-                     std::tgamma(beta + 1.0) / std::tgamma(ab + 2.0);
+  const double mu0 =
+      std::pow(2.0, ab + 1.0) * std::tgamma(alpha + 1.0) * std::tgamma(beta + 1.0) / std::tgamma(ab + 2.0);
   QuadratureRule rule;
   rule.dim = 1;
   rule.degree = 2 * n - 1;
@@ -354,9 +359,8 @@ QuadratureRule gauss_jacobi_rule(int n, double alpha, double beta) {
   // digits for small weights: polish the nodes by Newton on P_n and take the weights from
   // the closed form  w = 2^(a+b+1) G(n+a+1) G(n+b+1) / (G(n+a+b+1) n! (1-x^2) P_n'(x)^2),
   // with P_n' = (n+a+b+1)/2 P_{n-1}^(a+1, b+1).
-  const double log_c = (ab + 1.0) * std::log(2.0) + std::lgamma(n + alpha + 1.0) +
-                       std::lgamma(n + beta + 1.0) - std::lgamma(n + ab + 1.0) -
-                       std::lgamma(n + 1.0);
+  const double log_c = (ab + 1.0) * std::log(2.0) + std::lgamma(n + alpha + 1.0) + std::lgamma(n + beta + 1.0) -
+                       std::lgamma(n + ab + 1.0) - std::lgamma(n + 1.0);
   const auto derivative = [&](double x) {
     return 0.5 * (n + ab + 1.0) * jacobi_polynomial(n - 1, alpha + 1.0, beta + 1.0, x);
   };
@@ -424,15 +428,22 @@ const QuadratureRule& triangle_rule(int degree) {
     // low-order element matrices do not depend on the vertex numbering.
     switch (d) {
       case 0:
-      case 1: return symmetric_triangle_rule(1);
-      case 2: return symmetric_triangle_rule(2);
+      case 1:
+        return symmetric_triangle_rule(1);
+      case 2:
+        return symmetric_triangle_rule(2);
       case 3:
-      case 4: return symmetric_triangle_rule(4);
-      case 5: return symmetric_triangle_rule(5);
-      case 6: return symmetric_triangle_rule(6);
+      case 4:
+        return symmetric_triangle_rule(4);
+      case 5:
+        return symmetric_triangle_rule(5);
+      case 6:
+        return symmetric_triangle_rule(6);
       case 7:
-      case 8: return symmetric_triangle_rule(8);
-      default: return collapsed_triangle_rule(d / 2 + 1);
+      case 8:
+        return symmetric_triangle_rule(8);
+      default:
+        return collapsed_triangle_rule(d / 2 + 1);
     }
   });
 }
@@ -442,12 +453,17 @@ const QuadratureRule& tetrahedron_rule(int degree) {
   return cached<max_tetrahedron_degree + 1>(degree, [](int d) {
     switch (d) {
       case 0:
-      case 1: return symmetric_tetrahedron_rule(1);
-      case 2: return symmetric_tetrahedron_rule(2);
+      case 1:
+        return symmetric_tetrahedron_rule(1);
+      case 2:
+        return symmetric_tetrahedron_rule(2);
       case 4:
-      case 5: return symmetric_tetrahedron_rule(5);
-      case 6: return symmetric_tetrahedron_rule(6);
-      default: return collapsed_tetrahedron_rule(d / 2 + 1);
+      case 5:
+        return symmetric_tetrahedron_rule(5);
+      case 6:
+        return symmetric_tetrahedron_rule(6);
+      default:
+        return collapsed_tetrahedron_rule(d / 2 + 1);
     }
   });
 }
@@ -457,9 +473,12 @@ const QuadratureRule& simplex_rule(int dim, int degree) {
     case 1:
       check_range("line quadrature degree", degree, 0, 2 * max_line_points - 1);
       return line_rule(degree / 2 + 1);
-    case 2: return triangle_rule(degree);
-    case 3: return tetrahedron_rule(degree);
-    default: throw_input_error("no quadrature on simplices of dimension {}", dim);
+    case 2:
+      return triangle_rule(degree);
+    case 3:
+      return tetrahedron_rule(degree);
+    default:
+      throw_input_error("no quadrature on simplices of dimension {}", dim);
   }
 }
 

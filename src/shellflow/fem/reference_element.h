@@ -37,10 +37,16 @@ struct ReferenceElement {
 /// The facade of element class E.
 template <class E>
 constexpr ReferenceElement make_reference_element(const char* name) {
-  return {E::gmsh_type,       name,         E::dim,
-          E::order,           E::num_nodes, E::num_vertices,
-          &E::eval,           &E::eval_gradients,
-          &E::eval_hessians,  E::node_coords.data()};
+  return {E::gmsh_type,
+          name,
+          E::dim,
+          E::order,
+          E::num_nodes,
+          E::num_vertices,
+          &E::eval,
+          &E::eval_gradients,
+          &E::eval_hessians,
+          E::node_coords.data()};
 }
 
 /// Gmsh type numbers of every element type handled: 1, 8, 26 (lines), 2, 9, 21
@@ -58,16 +64,26 @@ const ReferenceElement& reference_element(int gmsh_type);
 template <class F>
 decltype(auto) visit_element_type(int gmsh_type, F&& f) {
   switch (gmsh_type) {
-    case Line2::gmsh_type: return std::forward<F>(f)(Line2{});
-    case Line3::gmsh_type: return std::forward<F>(f)(Line3{});
-    case Line4::gmsh_type: return std::forward<F>(f)(Line4{});
-    case Tri3::gmsh_type: return std::forward<F>(f)(Tri3{});
-    case Tri6::gmsh_type: return std::forward<F>(f)(Tri6{});
-    case Tri10::gmsh_type: return std::forward<F>(f)(Tri10{});
-    case Tet4::gmsh_type: return std::forward<F>(f)(Tet4{});
-    case Tet10::gmsh_type: return std::forward<F>(f)(Tet10{});
-    case Tet20::gmsh_type: return std::forward<F>(f)(Tet20{});
-    default: break;
+    case Line2::gmsh_type:
+      return std::forward<F>(f)(Line2{});
+    case Line3::gmsh_type:
+      return std::forward<F>(f)(Line3{});
+    case Line4::gmsh_type:
+      return std::forward<F>(f)(Line4{});
+    case Tri3::gmsh_type:
+      return std::forward<F>(f)(Tri3{});
+    case Tri6::gmsh_type:
+      return std::forward<F>(f)(Tri6{});
+    case Tri10::gmsh_type:
+      return std::forward<F>(f)(Tri10{});
+    case Tet4::gmsh_type:
+      return std::forward<F>(f)(Tet4{});
+    case Tet10::gmsh_type:
+      return std::forward<F>(f)(Tet10{});
+    case Tet20::gmsh_type:
+      return std::forward<F>(f)(Tet20{});
+    default:
+      break;
   }
   (void)reference_element(gmsh_type);  // throws the descriptive error
   throw std::logic_error("unreachable");

@@ -13,11 +13,10 @@
 //   eval_hessians(xi, d2N)  d2N[(a*dim + i)*dim + j]   = d2N_a/dxi_i dxi_j
 // The formulas are polynomials: they may be evaluated outside the element (a locator's
 // Newton iterations do so).
+#include <Eigen/Core>
 #include <array>
 #include <cstddef>
 #include <utility>
-
-#include <Eigen/Core>
 
 #include "shellflow/fem/lagrange_detail.h"
 
@@ -39,18 +38,16 @@ struct LagrangeElement {
   using Coords = Eigen::Matrix<double, dim, 1>;
   using Values = Eigen::Matrix<double, num_nodes, 1>;
   /// num_nodes x dim, rows are gradients; row-major so its data matches eval_gradients.
-  using Gradients =
-      Eigen::Matrix<double, num_nodes, dim, (dim == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
+  using Gradients = Eigen::Matrix<double, num_nodes, dim, (dim == 1 ? Eigen::ColMajor : Eigen::RowMajor)>;
 
   /// Node coordinates in the reference element, one point per node.
   static constexpr std::array<Point, NumNodes> node_points = [] {
     std::array<Point, NumNodes> x{};
-    for (std::size_t a = 0; a < NumNodes; ++a)
-      x[a] = detail::node_position<Simplex, Order>(Nodes[a]);
+    for (std::size_t a = 0; a < NumNodes; ++a) x[a] = detail::node_position<Simplex, Order>(Nodes[a]);
     return x;
   }();
   /// The same, flat: node a's coordinate i is node_coords[a*dim + i].
-  static constexpr std::array<double, NumNodes * dim> node_coords = [] {
+  static constexpr std::array<double, NumNodes* dim> node_coords = [] {
     std::array<double, NumNodes * dim> x{};
     for (std::size_t a = 0; a < NumNodes; ++a)
       for (int i = 0; i < dim; ++i) x[a * dim + i] = node_points[a][i];
@@ -110,31 +107,29 @@ struct LagrangeElement {
 namespace detail {
 inline constexpr std::array<NodeSpec, 2> line2_nodes{vertex(0), vertex(1)};
 inline constexpr std::array<NodeSpec, 3> line3_nodes{vertex(0), vertex(1), edge(0, 1)};
-inline constexpr std::array<NodeSpec, 4> line4_nodes{vertex(0), vertex(1), edge(0, 1),
-                                                     edge(1, 0)};
+inline constexpr std::array<NodeSpec, 4> line4_nodes{vertex(0), vertex(1), edge(0, 1), edge(1, 0)};
 
 inline constexpr std::array<NodeSpec, 3> tri3_nodes{vertex(0), vertex(1), vertex(2)};
 // Edges 0-1, 1-2, 2-0.
 inline constexpr std::array<NodeSpec, 6> tri6_nodes{vertex(0),  vertex(1),  vertex(2),
                                                     edge(0, 1), edge(1, 2), edge(2, 0)};
-inline constexpr std::array<NodeSpec, 10> tri10_nodes{
-    vertex(0),  vertex(1),  vertex(2),                           //
-    edge(0, 1), edge(1, 0), edge(1, 2), edge(2, 1), edge(2, 0), edge(0, 2),  //
-    face(0, 1, 2)};
+inline constexpr std::array<NodeSpec, 10> tri10_nodes{vertex(0),    vertex(1),  vertex(2),  //
+                                                      edge(0, 1),   edge(1, 0), edge(1, 2),
+                                                      edge(2, 1),   edge(2, 0), edge(0, 2),  //
+                                                      face(0, 1, 2)};
 
 inline constexpr std::array<NodeSpec, 4> tet4_nodes{vertex(0), vertex(1), vertex(2), vertex(3)};
 // Edges 0-1, 1-2, 2-0, 3-0, 3-2, 3-1 (note: not VTK's 0-1, 1-2, 2-0, 0-3, 1-3, 2-3).
-inline constexpr std::array<NodeSpec, 10> tet10_nodes{
-    vertex(0),  vertex(1),  vertex(2),  vertex(3),  //
-    edge(0, 1), edge(1, 2), edge(2, 0), edge(3, 0), edge(3, 2), edge(3, 1)};
+inline constexpr std::array<NodeSpec, 10> tet10_nodes{vertex(0),  vertex(1),  vertex(2),  vertex(3),  //
+                                                      edge(0, 1), edge(1, 2), edge(2, 0), edge(3, 0),
+                                                      edge(3, 2), edge(3, 1)};
 // Same edges, two nodes each from the first vertex to the second; then one node per face,
 // faces (0,1,2), (0,1,3), (0,2,3), (1,2,3).
-inline constexpr std::array<NodeSpec, 20> tet20_nodes{
-    vertex(0),     vertex(1),     vertex(2),     vertex(3),      //
-    edge(0, 1),    edge(1, 0),    edge(1, 2),    edge(2, 1),     //
-    edge(2, 0),    edge(0, 2),    edge(3, 0),    edge(0, 3),     //
-    edge(3, 2),    edge(2, 3),    edge(3, 1),    edge(1, 3),     //
-    face(0, 1, 2), face(0, 1, 3), face(0, 2, 3), face(1, 2, 3)};
+inline constexpr std::array<NodeSpec, 20> tet20_nodes{vertex(0),     vertex(1),     vertex(2),     vertex(3),   //
+                                                      edge(0, 1),    edge(1, 0),    edge(1, 2),    edge(2, 1),  //
+                                                      edge(2, 0),    edge(0, 2),    edge(3, 0),    edge(0, 3),  //
+                                                      edge(3, 2),    edge(2, 3),    edge(3, 1),    edge(1, 3),  //
+                                                      face(0, 1, 2), face(0, 1, 3), face(0, 2, 3), face(1, 2, 3)};
 }  // namespace detail
 
 // --- the elements ------------------------------------------------------------------------

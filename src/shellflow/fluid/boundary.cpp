@@ -1,11 +1,11 @@
 #include "shellflow/fluid/boundary.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <unordered_map>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 
@@ -21,12 +21,17 @@ FaceKey sorted_key(Index a, Index b, Index c) {
 
 int rank(BoundaryKind k) {
   switch (k) {
-    case BoundaryKind::supersonic_inflow: return 5;
-    case BoundaryKind::no_slip_wall: return 4;
+    case BoundaryKind::supersonic_inflow:
+      return 5;
+    case BoundaryKind::no_slip_wall:
+      return 4;
     case BoundaryKind::slip_wall:
-    case BoundaryKind::symmetry: return 3;
-    case BoundaryKind::far_field: return 2;
-    case BoundaryKind::supersonic_outflow: return 1;
+    case BoundaryKind::symmetry:
+      return 3;
+    case BoundaryKind::far_field:
+      return 2;
+    case BoundaryKind::supersonic_outflow:
+      return 1;
   }
   return 0;
 }
@@ -38,9 +43,9 @@ constexpr std::size_t boundary_parallel_threshold = 2048;
 
 /// CSR of faces per node for the nodes in `nodes` (sorted), faces selected by `take`.
 template <class Take>
-void faces_per_node(const std::vector<Index>& nodes, std::span<const Index> slot_of_node,
-                    std::size_t num_faces, const std::function<FaceKey(std::size_t)>& nodes_of,
-                    Take&& take, std::vector<Index>& offsets, std::vector<Index>& out) {
+void faces_per_node(const std::vector<Index>& nodes, std::span<const Index> slot_of_node, std::size_t num_faces,
+                    const std::function<FaceKey(std::size_t)>& nodes_of, Take&& take, std::vector<Index>& offsets,
+                    std::vector<Index>& out) {
   std::vector<std::vector<Index>> lists(nodes.size());
   for (std::size_t f = 0; f < num_faces; ++f) {
     if (!take(f)) continue;
@@ -61,18 +66,24 @@ void faces_per_node(const std::vector<Index>& nodes, std::span<const Index> slot
 
 const char* to_string(BoundaryKind kind) {
   switch (kind) {
-    case BoundaryKind::supersonic_inflow: return "supersonic_inflow";
-    case BoundaryKind::supersonic_outflow: return "supersonic_outflow";
-    case BoundaryKind::slip_wall: return "slip_wall";
-    case BoundaryKind::symmetry: return "symmetry";
-    case BoundaryKind::far_field: return "far_field";
-    case BoundaryKind::no_slip_wall: return "no_slip_wall";
+    case BoundaryKind::supersonic_inflow:
+      return "supersonic_inflow";
+    case BoundaryKind::supersonic_outflow:
+      return "supersonic_outflow";
+    case BoundaryKind::slip_wall:
+      return "slip_wall";
+    case BoundaryKind::symmetry:
+      return "symmetry";
+    case BoundaryKind::far_field:
+      return "far_field";
+    case BoundaryKind::no_slip_wall:
+      return "no_slip_wall";
   }
   return "?";
 }
 
-BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
-                         const IdealGas& gas, std::vector<BoundaryCondition> conditions)
+BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets, const IdealGas& gas,
+                         std::vector<BoundaryCondition> conditions)
     : conditions_(std::move(conditions)) {
   const Index nn = mesh.num_nodes();
   std::map<std::string, int> by_group;
@@ -80,13 +91,15 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
     const auto& bc = conditions_[c];
     const auto& group = mesh.group(bc.group);  // throws InputError naming the groups
     if (group.dim != 2 || group.elements.type != mesh::ElementType::tri3)
-      throw InputError(fmt::format(
-          "fluid boundary condition '{}' on group '{}' of mesh '{}': the group is not a "
-          "surface of 3-node triangles; give conditions on boundary surfaces only",
-          to_string(bc.kind), bc.group, mesh.name));
+      throw InputError(
+          fmt::format("fluid boundary condition '{}' on group '{}' of mesh '{}': the group is not a "
+                      "surface of 3-node triangles; give conditions on boundary surfaces only",
+                      to_string(bc.kind), bc.group, mesh.name));
     if (!by_group.emplace(bc.group, int(c)).second)
-      throw InputError(fmt::format("fluid boundary group '{}' of mesh '{}' has two conditions; "
-                                   "keep one", bc.group, mesh.name));
+      throw InputError(
+          fmt::format("fluid boundary group '{}' of mesh '{}' has two conditions; "
+                      "keep one",
+                      bc.group, mesh.name));
     if (bc.kind == BoundaryKind::supersonic_inflow) {
       // A varying state is checked at the group's first node at t = 0.
       const Primitive s = bc.state_at && !group.nodes.empty()
@@ -95,31 +108,30 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
       const double c0 = gas.sound_speed(s.rho, s.pressure);
       const double mach = s.velocity.norm() / c0;
       if (!(s.rho > 0.0 && s.pressure > 0.0) || !(mach >= 1.0))
-        throw InputError(fmt::format(
-            "fluid boundary '{}': supersonic_inflow needs a supersonic state with rho, p > 0, "
-            "got rho = {}, p = {}, Mach {:.4g}; use far_field for a subsonic inflow",
-            bc.group, s.rho, s.pressure, mach));
+        throw InputError(
+            fmt::format("fluid boundary '{}': supersonic_inflow needs a supersonic state with rho, p > 0, "
+                        "got rho = {}, p = {}, Mach {:.4g}; use far_field for a subsonic inflow",
+                        bc.group, s.rho, s.pressure, mach));
     }
     if (bc.kind == BoundaryKind::no_slip_wall && !gas.viscous())
-      throw InputError(fmt::format(
-          "fluid boundary '{}' of mesh '{}': no_slip_wall needs the viscous terms, but the gas "
-          "is inviscid; set the fluid viscosity (fluid.gas.viscosity: constant or sutherland) "
-          "or use slip_wall",
-          bc.group, mesh.name));
-    if (bc.wall_temperature &&
-        (bc.kind != BoundaryKind::no_slip_wall || !(*bc.wall_temperature > 0.0) ||
-         !std::isfinite(*bc.wall_temperature)))
-      throw InputError(fmt::format(
-          "fluid boundary '{}' ({}): wall temperature {} K; give a positive temperature on a "
-          "no_slip_wall, or none (adiabatic wall)",
-          bc.group, to_string(bc.kind), *bc.wall_temperature));
+      throw InputError(
+          fmt::format("fluid boundary '{}' of mesh '{}': no_slip_wall needs the viscous terms, but the gas "
+                      "is inviscid; set the fluid viscosity (fluid.gas.viscosity: constant or sutherland) "
+                      "or use slip_wall",
+                      bc.group, mesh.name));
+    if (bc.wall_temperature && (bc.kind != BoundaryKind::no_slip_wall || !(*bc.wall_temperature > 0.0) ||
+                                !std::isfinite(*bc.wall_temperature)))
+      throw InputError(
+          fmt::format("fluid boundary '{}' ({}): wall temperature {} K; give a positive temperature on a "
+                      "no_slip_wall, or none (adiabatic wall)",
+                      bc.group, to_string(bc.kind), *bc.wall_temperature));
   }
   for (const auto& g : mesh.groups)
     if (g.dim == 2 && !by_group.contains(g.name))
-      throw InputError(fmt::format(
-          "fluid boundary group '{}' of mesh '{}' has no boundary condition; give it one of "
-          "supersonic_inflow, supersonic_outflow, slip_wall, no_slip_wall, symmetry, far_field",
-          g.name, mesh.name));
+      throw InputError(
+          fmt::format("fluid boundary group '{}' of mesh '{}' has no boundary condition; give it one of "
+                      "supersonic_inflow, supersonic_outflow, slip_wall, no_slip_wall, symmetry, far_field",
+                      g.name, mesh.name));
 
   // Faces with their owning element.
   auto& face_index = face_index_;
@@ -140,8 +152,7 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
   for (std::size_t e = 0; e < ne; ++e) {
     const Index* n = tets.data() + 4 * e;
     for (int opp = 0; opp < 4; ++opp) {
-      const auto it = face_index.find(sorted_key(n[tet_faces[opp][0]], n[tet_faces[opp][1]],
-                                                 n[tet_faces[opp][2]]));
+      const auto it = face_index.find(sorted_key(n[tet_faces[opp][0]], n[tet_faces[opp][1]], n[tet_faces[opp][2]]));
       if (it == face_index.end()) continue;
       auto& f = faces_[it->second].face;
       f.element = Index(e);
@@ -153,11 +164,9 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
       throw InputError(fmt::format(
           "fluid boundary group '{}' of mesh '{}': triangle ({} {} {}) is not a face of any "
           "tetrahedron; regenerate the mesh with the group on the volume's boundary",
-          conditions_[std::size_t(f.condition)].group, mesh.name, f.face.nodes[0],
-          f.face.nodes[1], f.face.nodes[2]));
+          conditions_[std::size_t(f.condition)].group, mesh.name, f.face.nodes[0], f.face.nodes[1], f.face.nodes[2]));
     const auto kind = conditions_[std::size_t(f.condition)].kind;
-    if (kind == BoundaryKind::supersonic_outflow || kind == BoundaryKind::far_field)
-      natural_faces_.push_back(f.face);
+    if (kind == BoundaryKind::supersonic_outflow || kind == BoundaryKind::far_field) natural_faces_.push_back(f.face);
     if (kind == BoundaryKind::no_slip_wall && !conditions_[std::size_t(f.condition)].wall_temperature)
       adiabatic_wall_faces_.push_back(f.face);
   }
@@ -227,35 +236,29 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets,
     wall_slip_groups_.insert(wall_slip_groups_.end(), l.begin(), l.end());
     wall_slip_offsets_.push_back(Index(wall_slip_groups_.size()));
   }
-  const std::function<FaceKey(std::size_t)> nodes_of = [&](std::size_t f) {
-    return FaceKey{faces_[f].face.nodes};
-  };
+  const std::function<FaceKey(std::size_t)> nodes_of = [&](std::size_t f) { return FaceKey{faces_[f].face.nodes}; };
   // Wall faces: symmetry faces first so that their exact plane normal leads Gram–Schmidt.
   std::vector<Index> sym_offsets, sym_faces, slip_offsets, slip_faces;
-  faces_per_node(wall_nodes_, wall_slot_, faces_.size(), nodes_of,
-                 [&](std::size_t f) {
-                   return conditions_[std::size_t(faces_[f].condition)].kind == BoundaryKind::symmetry;
-                 },
-                 sym_offsets, sym_faces);
-  faces_per_node(wall_nodes_, wall_slot_, faces_.size(), nodes_of,
-                 [&](std::size_t f) {
-                   return conditions_[std::size_t(faces_[f].condition)].kind == BoundaryKind::slip_wall;
-                 },
-                 slip_offsets, slip_faces);
+  faces_per_node(
+      wall_nodes_, wall_slot_, faces_.size(), nodes_of,
+      [&](std::size_t f) { return conditions_[std::size_t(faces_[f].condition)].kind == BoundaryKind::symmetry; },
+      sym_offsets, sym_faces);
+  faces_per_node(
+      wall_nodes_, wall_slot_, faces_.size(), nodes_of,
+      [&](std::size_t f) { return conditions_[std::size_t(faces_[f].condition)].kind == BoundaryKind::slip_wall; },
+      slip_offsets, slip_faces);
   wall_face_offsets_.assign(1, 0);
   wall_sym_faces_.assign(wall_nodes_.size(), 0);
   for (std::size_t s = 0; s < wall_nodes_.size(); ++s) {
     for (Index k = sym_offsets[s]; k < sym_offsets[s + 1]; ++k) wall_faces_.push_back(sym_faces[std::size_t(k)]);
     wall_sym_faces_[s] = sym_offsets[s + 1] - sym_offsets[s];
-    for (Index k = slip_offsets[s]; k < slip_offsets[s + 1]; ++k)
-      wall_faces_.push_back(slip_faces[std::size_t(k)]);
+    for (Index k = slip_offsets[s]; k < slip_offsets[s + 1]; ++k) wall_faces_.push_back(slip_faces[std::size_t(k)]);
     wall_face_offsets_.push_back(Index(wall_faces_.size()));
   }
-  faces_per_node(far_nodes_, far_slot, faces_.size(), nodes_of,
-                 [&](std::size_t f) {
-                   return conditions_[std::size_t(faces_[f].condition)].kind == BoundaryKind::far_field;
-                 },
-                 far_face_offsets_, far_faces_);
+  faces_per_node(
+      far_nodes_, far_slot, faces_.size(), nodes_of,
+      [&](std::size_t f) { return conditions_[std::size_t(faces_[f].condition)].kind == BoundaryKind::far_field; },
+      far_face_offsets_, far_faces_);
   wall_normals_.resize(wall_nodes_.size());
   wall_num_normals_.assign(wall_nodes_.size(), 0);
   wall_num_sym_normals_.assign(wall_nodes_.size(), 0);
@@ -324,8 +327,8 @@ std::uint64_t BoundarySet::facets_off_their_planes(std::span<const Vec3> x) cons
     bool on = true;
 #pragma omp parallel for schedule(static) reduction(&& : on) if (std::size_t(n) > 8 * boundary_parallel_threshold)
     for (std::ptrdiff_t i = 0; i < n; ++i)
-      on = on && std::abs(facet.normal.dot(x[std::size_t(facet.nodes[std::size_t(i)])]) - facet.offset) <=
-                     facet.tolerance;
+      on = on &&
+           std::abs(facet.normal.dot(x[std::size_t(facet.nodes[std::size_t(i)])]) - facet.offset) <= facet.tolerance;
     if (!on) off |= std::uint64_t{1} << k;
   }
   return off;
@@ -426,8 +429,10 @@ void BoundarySet::update_normals(std::span<const Vec3> x) {
 BoundaryFace BoundarySet::owner_of(Index a, Index b, Index c) const {
   const auto it = face_index_.find(sorted_key(a, b, c));
   if (it == face_index_.end())
-    throw InputError(fmt::format("triangle ({} {} {}) is not a face of a fluid boundary group "
-                                 "with a condition", a, b, c));
+    throw InputError(
+        fmt::format("triangle ({} {} {}) is not a face of a fluid boundary group "
+                    "with a condition",
+                    a, b, c));
   return faces_[it->second].face;
 }
 

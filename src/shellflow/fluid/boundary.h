@@ -46,11 +46,11 @@ using WallVelocity = std::function<Vec3(Index node, const Vec3& x, double t)>;
 using StateFunction = std::function<Primitive(const Vec3& x, double t)>;
 
 struct BoundaryCondition {
-  std::string group;             ///< physical group (surface) of the mesh
+  std::string group;  ///< physical group (surface) of the mesh
   BoundaryKind kind = BoundaryKind::slip_wall;
-  Primitive state;               ///< free stream for inflow and far field
-  WallVelocity wall_velocity;    ///< slip and no-slip walls; empty: fixed wall
-  StateFunction state_at;        ///< replaces `state` when set
+  Primitive state;             ///< free stream for inflow and far field
+  WallVelocity wall_velocity;  ///< slip and no-slip walls; empty: fixed wall
+  StateFunction state_at;      ///< replaces `state` when set
   /// No-slip wall only: imposed wall temperature (K); empty: adiabatic (no heat flux).
   std::optional<double> wall_temperature;
 
@@ -113,15 +113,15 @@ class BoundarySet {
   /// Imposes all conditions on u at time t; x, w: positions and mesh velocity.
   /// `initial_state`: u is a given initial field, not the result of a step (adiabatic
   /// no-slip walls then keep the pressure instead of the updated total energy).
-  void apply(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w,
-             FluidState& u, bool initial_state = false) const;
+  void apply(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w, FluidState& u,
+             bool initial_state = false) const;
 
   /// Sets the increments of the Dirichlet values at time t and positions x (for the
   /// consistent-mass iterations): supersonic-inflow nodes to (imposed state - u_old);
   /// no-slip nodes' momentum to (rho_old + d rho) u_wall - m_old, and their energy too when
   /// the wall is isothermal.
-  void impose_dirichlet_increments(const IdealGas& gas, double t, std::span<const Vec3> x,
-                                   const FluidState& u_old, FluidState& increment) const;
+  void impose_dirichlet_increments(const IdealGas& gas, double t, std::span<const Vec3> x, const FluidState& u_old,
+                                   FluidState& increment) const;
 
   /// Faces of natural boundaries (outflow and far field) for the C3 term.
   std::span<const BoundaryFace> natural_faces() const { return natural_faces_; }
@@ -154,10 +154,9 @@ class BoundarySet {
   };
   Vec3 slip_velocity(std::size_t s, Index a, const Vec3& x, double t) const;
   Vec3 no_slip_velocity(std::size_t s, Index a, const Vec3& x, double t) const;
-  void apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x,
-                       std::span<const Vec3> w, std::size_t s, FluidState& u) const;
-  void apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
-                  FluidState& u) const;
+  void apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w, std::size_t s,
+                       FluidState& u) const;
+  void apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s, FluidState& u) const;
   std::vector<BoundaryCondition> conditions_;
   std::vector<Face> faces_;
   std::unordered_map<std::array<Index, 3>, std::size_t, FaceKeyHash> face_index_;
@@ -176,8 +175,8 @@ class BoundarySet {
   std::vector<Index> wall_nodes_;
   std::vector<Index> wall_face_offsets_;
   std::vector<Index> wall_faces_;
-  std::vector<Index> wall_sym_faces_;         // leading symmetry faces per node
-  std::vector<Index> wall_slip_offsets_;     // CSR: adjacent slip-wall groups, ascending
+  std::vector<Index> wall_sym_faces_;     // leading symmetry faces per node
+  std::vector<Index> wall_slip_offsets_;  // CSR: adjacent slip-wall groups, ascending
   std::vector<GroupSlot> wall_slip_groups_;
   std::vector<std::array<Vec3, 3>> wall_normals_;
   std::vector<int> wall_num_normals_;

@@ -1,8 +1,8 @@
 // Imposing the boundary conditions on the nodal values (fluid.md §9), and the per-node wall
 // velocities set from outside. The node classes and normals are in boundary.cpp.
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/boundary.h"
@@ -21,31 +21,34 @@ void BoundarySet::set_wall_velocity(std::string_view group, std::span<const Vec3
   if (c == conditions_.size()) {
     std::string known;
     for (const auto& bc : conditions_) known += (known.empty() ? "'" : ", '") + bc.group + "'";
-    throw InputError(fmt::format("fluid wall velocity for group '{}': no boundary condition on "
-                                 "that group; groups with conditions: {}",
-                                 group, known));
+    throw InputError(
+        fmt::format("fluid wall velocity for group '{}': no boundary condition on "
+                    "that group; groups with conditions: {}",
+                    group, known));
   }
   const auto kind = conditions_[c].kind;
   if (kind != BoundaryKind::slip_wall && kind != BoundaryKind::no_slip_wall)
-    throw InputError(fmt::format("fluid wall velocity for group '{}': the group is a {} "
-                                 "boundary; wall velocities are for slip_wall and no_slip_wall "
-                                 "groups only",
-                                 group, to_string(kind)));
+    throw InputError(
+        fmt::format("fluid wall velocity for group '{}': the group is a {} "
+                    "boundary; wall velocities are for slip_wall and no_slip_wall "
+                    "groups only",
+                    group, to_string(kind)));
   if (velocity.size() != std::size_t(group_size_[c]))
-    throw InputError(fmt::format("fluid wall velocity for group '{}' ({}): {} velocities for the "
-                                 "group's {} nodes; give one per node, in the group's node order",
-                                 group, to_string(kind), velocity.size(), group_size_[c]));
+    throw InputError(
+        fmt::format("fluid wall velocity for group '{}' ({}): {} velocities for the "
+                    "group's {} nodes; give one per node, in the group's node order",
+                    group, to_string(kind), velocity.size(), group_size_[c]));
   set_velocity_[c].assign(velocity.begin(), velocity.end());
 }
 
 void BoundarySet::restore_wall_velocities(const std::vector<std::vector<Vec3>>& v) {
   if (v.size() != set_velocity_.size())
-    throw InputError(fmt::format("fluid wall velocities for {} conditions, the boundary set has {}",
-                                 v.size(), set_velocity_.size()));
+    throw InputError(fmt::format("fluid wall velocities for {} conditions, the boundary set has {}", v.size(),
+                                 set_velocity_.size()));
   for (std::size_t c = 0; c < v.size(); ++c)
     if (!v[c].empty() && v[c].size() != std::size_t(group_size_[c]))
-      throw InputError(fmt::format("fluid wall velocities of group '{}': {} for {} nodes",
-                                   conditions_[c].group, v[c].size(), group_size_[c]));
+      throw InputError(fmt::format("fluid wall velocities of group '{}': {} for {} nodes", conditions_[c].group,
+                                   v[c].size(), group_size_[c]));
   for (std::size_t c = 0; c < v.size(); ++c) set_velocity_[c].assign(v[c].begin(), v[c].end());
 }
 
@@ -68,9 +71,8 @@ Vec3 BoundarySet::no_slip_velocity(std::size_t s, Index a, const Vec3& x, double
   return bc.wall_velocity ? bc.wall_velocity(a, x, t) : Vec3(Vec3::Zero());
 }
 
-void BoundarySet::impose_dirichlet_increments(const IdealGas& gas, double t,
-                                              std::span<const Vec3> x, const FluidState& u_old,
-                                              FluidState& increment) const {
+void BoundarySet::impose_dirichlet_increments(const IdealGas& gas, double t, std::span<const Vec3> x,
+                                              const FluidState& u_old, FluidState& increment) const {
   for (const auto& [a, c] : inflow_nodes_) {
     const auto& bc = conditions_[std::size_t(c)];
     const Conservative q = to_conservative(gas, bc.state_at ? bc.state_at(x[std::size_t(a)], t) : bc.state);
@@ -92,8 +94,8 @@ void BoundarySet::impose_dirichlet_increments(const IdealGas& gas, double t,
   }
 }
 
-void BoundarySet::apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x,
-                                  std::span<const Vec3> w, std::size_t s, FluidState& u) const {
+void BoundarySet::apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w,
+                                  std::size_t s, FluidState& u) const {
   const double gm1 = gas.gamma - 1.0;
   const Index a = far_nodes_[s];
   const Vec3& n = far_normals_[s];
@@ -123,8 +125,8 @@ void BoundarySet::apply_far_field(const IdealGas& gas, double t, std::span<const
   u.set(a, to_conservative(gas, b));
 }
 
-void BoundarySet::apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x,
-                             std::size_t s, FluidState& u) const {
+void BoundarySet::apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
+                             FluidState& u) const {
   const Index a = wall_nodes_[s];
   Conservative q = u.get(a);
   const double p = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy);
@@ -141,8 +143,8 @@ void BoundarySet::apply_wall(const IdealGas& gas, double t, std::span<const Vec3
   u.set(a, q);
 }
 
-void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x,
-                        std::span<const Vec3> w, FluidState& u, bool initial_state) const {
+void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w, FluidState& u,
+                        bool initial_state) const {
   const double gm1 = gas.gamma - 1.0;
   for (const auto& [a, c] : inflow_nodes_) {
     const auto& bc = conditions_[std::size_t(c)];
@@ -154,8 +156,8 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x,
   for (std::size_t c = 0; c < conditions_.size(); ++c) {
     const auto& bc = conditions_[c];
     far_closures = far_closures || (bc.kind == BoundaryKind::far_field && bc.state_at);
-    wall_closures = wall_closures || (bc.kind == BoundaryKind::slip_wall && bc.wall_velocity &&
-                                      set_velocity_[c].empty());
+    wall_closures =
+        wall_closures || (bc.kind == BoundaryKind::slip_wall && bc.wall_velocity && set_velocity_[c].empty());
   }
   // Far field first: on slabs its nodes may be symmetry or wall nodes too, whose normal
   // components the wall pass below then removes.
@@ -179,8 +181,7 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x,
     if (bc.wall_temperature)
       q.energy = q.rho * gas.cv() * *bc.wall_temperature + kinetic;
     else if (initial_state)
-      q.energy = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy) / gm1 +
-                 kinetic;
+      q.energy = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy) / gm1 + kinetic;
     q.momentum = q.rho * wall_velocity;
     u.set(a, q);
   }

@@ -52,9 +52,8 @@ inline JacobianCommon<Real> jacobian_common(const KernelConstants& k, const Mean
 
 /// out = (A_dir - [relative] w̄_dir I) d from the common part c of d.
 template <class Real>
-inline void jacobian_direction(const KernelConstants& k, const MeanStateOf<Real>& s,
-                               const JacobianCommon<Real>& c, int dir,
-                               const Real d[num_variables], Real out[num_variables]) {
+inline void jacobian_direction(const KernelConstants& k, const MeanStateOf<Real>& s, const JacobianCommon<Real>& c,
+                               int dir, const Real d[num_variables], Real out[num_variables]) {
   const Real uk = s.vel[dir];
   out[0] = d[1 + dir];
   for (int i = 0; i < 3; ++i) out[1 + i] = uk * d[1 + i] + s.m[i] * c.du[dir];
@@ -66,8 +65,8 @@ inline void jacobian_direction(const KernelConstants& k, const MeanStateOf<Real>
 
 /// out = (A_k - [relative] w̄_k I) d, A_k the Euler flux Jacobian at the mean state.
 template <class Real>
-inline void apply_jacobian(const KernelConstants& k, const MeanStateOf<Real>& s, int dir,
-                           const Real d[num_variables], Real out[num_variables]) {
+inline void apply_jacobian(const KernelConstants& k, const MeanStateOf<Real>& s, int dir, const Real d[num_variables],
+                           Real out[num_variables]) {
   jacobian_direction(k, s, jacobian_common(k, s, d), dir, d, out);
 }
 
@@ -89,9 +88,8 @@ struct ElementData {
 
 using ElementState = ElementData<double>;
 
-inline void load_element(std::span<const Index> tets, Index e, const TetGeometry& g,
-                         const FluidState& u, std::span<const Vec3> w, bool mesh_moves,
-                         ElementState& s) {
+inline void load_element(std::span<const Index> tets, Index e, const TetGeometry& g, const FluidState& u,
+                         std::span<const Vec3> w, bool mesh_moves, ElementState& s) {
   const auto ue = std::size_t(e);
   s.volume = g.volume[ue];
   for (int a = 0; a < 4; ++a) {
@@ -124,9 +122,8 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
       vel[a][j] = s.u[a][1 + j] * inv_rho;
       rounded(vel[a][j]);
     }
-    p[a] = k.gamma_minus_1 *
-           (s.u[a][4] - 0.5 * (s.u[a][1] * vel[a][0] + s.u[a][2] * vel[a][1] +
-                               s.u[a][3] * vel[a][2]));
+    p[a] =
+        k.gamma_minus_1 * (s.u[a][4] - 0.5 * (s.u[a][1] * vel[a][0] + s.u[a][2] * vel[a][1] + s.u[a][3] * vel[a][2]));
     rounded(p[a]);
   }
   // Differences to node 0: gradients of U, velocity and p.
@@ -137,14 +134,12 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
     dp[a] = p[a] - p[0];
   }
   for (int v = 0; v < num_variables; ++v)
-    for (int j = 0; j < 3; ++j)
-      s.grad_u[v][j] = du[1][v] * B[1][j] + du[2][v] * B[2][j] + du[3][v] * B[3][j];
+    for (int j = 0; j < 3; ++j) s.grad_u[v][j] = du[1][v] * B[1][j] + du[2][v] * B[2][j] + du[3][v] * B[3][j];
   // Group divergence D = sum_a B_a,j F_j(U_a) in difference form: with the product rule
   // F(U_a) - F(U_0) = dU_a vel_a + U_0 dvel_a (+ dp_a for momentum), so
   //   D_i = sum_a dU_a,i (B_a . vel_a) + U_0,i div(vel) [+ (grad p)_i].
   Real b_vel[4];
-  for (int a = 1; a < 4; ++a)
-    b_vel[a] = B[a][0] * vel[a][0] + B[a][1] * vel[a][1] + B[a][2] * vel[a][2];
+  for (int a = 1; a < 4; ++a) b_vel[a] = B[a][0] * vel[a][0] + B[a][1] * vel[a][1] + B[a][2] * vel[a][2];
   Real div_vel = B[1][0] * dvel[1][0] + B[2][0] * dvel[2][0] + B[3][0] * dvel[3][0];
   Real grad_p[3];
   for (int j = 0; j < 3; ++j) {
@@ -153,15 +148,14 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
   }
   s.flux_div[0] = s.grad_u[1][0] + s.grad_u[2][1] + s.grad_u[3][2];  // div(rho u)
   for (int i = 0; i < 3; ++i)
-    s.flux_div[1 + i] = du[1][1 + i] * b_vel[1] + du[2][1 + i] * b_vel[2] +
-                        du[3][1 + i] * b_vel[3] + s.u[0][1 + i] * div_vel + grad_p[i];
-  s.flux_div[4] = (du[1][4] + dp[1]) * b_vel[1] + (du[2][4] + dp[2]) * b_vel[2] +
-                  (du[3][4] + dp[3]) * b_vel[3] + (s.u[0][4] + p[0]) * div_vel;
+    s.flux_div[1 + i] = du[1][1 + i] * b_vel[1] + du[2][1 + i] * b_vel[2] + du[3][1 + i] * b_vel[3] +
+                        s.u[0][1 + i] * div_vel + grad_p[i];
+  s.flux_div[4] = (du[1][4] + dp[1]) * b_vel[1] + (du[2][4] + dp[2]) * b_vel[2] + (du[3][4] + dp[3]) * b_vel[3] +
+                  (s.u[0][4] + p[0]) * div_vel;
 
   MeanStateOf<Real> m;
   Real mean[num_variables];
-  for (int v = 0; v < num_variables; ++v)
-    mean[v] = 0.25 * (s.u[0][v] + s.u[1][v] + s.u[2][v] + s.u[3][v]);
+  for (int v = 0; v < num_variables; ++v) mean[v] = 0.25 * (s.u[0][v] + s.u[1][v] + s.u[2][v] + s.u[3][v]);
   m.rho = mean[0];
   const Real inv_rho = 1.0 / mean[0];
   for (int j = 0; j < 3; ++j) {
@@ -178,8 +172,7 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
       m.w[j] = s.w_mean[j];
     }
     for (int v = 0; v < num_variables; ++v) {
-      s.mesh_term[v] = s.w_mean[0] * s.grad_u[v][0] + s.w_mean[1] * s.grad_u[v][1] +
-                       s.w_mean[2] * s.grad_u[v][2];
+      s.mesh_term[v] = s.w_mean[0] * s.grad_u[v][0] + s.w_mean[1] * s.grad_u[v][1] + s.w_mean[2] * s.grad_u[v][2];
       rhat[v] = s.mesh_term[v] - s.flux_div[v];
     }
   } else {
@@ -205,8 +198,8 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
     for (int dir = 0; dir < 3; ++dir) {
       Real z[num_variables];
       for (int v = 0; v < num_variables; ++v)
-        z[v] = div_w * s.grad_u[v][dir] + gw[dir][0] * s.grad_u[v][0] +
-               gw[dir][1] * s.grad_u[v][1] + gw[dir][2] * s.grad_u[v][2];
+        z[v] = div_w * s.grad_u[v][dir] + gw[dir][0] * s.grad_u[v][0] + gw[dir][1] * s.grad_u[v][1] +
+               gw[dir][2] * s.grad_u[v][2];
       Real az[num_variables];
       apply_jacobian(k, m, dir, z, az);
       for (int v = 0; v < num_variables; ++v) s.tg_mesh[v] += az[v];
@@ -219,9 +212,8 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
 /// applied when scattering), `dt_element` the second factor of the Taylor–Galerkin rows
 /// (fluid.md §4.3).
 template <class Real>
-inline void element_contributions(const KernelConstants& k, const ElementData<Real>& s,
-                                  const Real& viscosity, const Real& dt, const Real& dt_element,
-                                  Real value[4][num_variables]) {
+inline void element_contributions(const KernelConstants& k, const ElementData<Real>& s, const Real& viscosity,
+                                  const Real& dt, const Real& dt_element, Real value[4][num_variables]) {
   const auto& B = s.grad;
   const Real V = s.volume;
   const Real c_flux = -0.25 * dt * V;
@@ -232,8 +224,7 @@ inline void element_contributions(const KernelConstants& k, const ElementData<Re
     const Real common = c_flux * s.flux_div[v];
     Real g[3];
     for (int j = 0; j < 3; ++j) g[j] = c_tg * s.tg_flux[j][v] + c_visc * s.grad_u[v][j];
-    for (int a = 0; a < 4; ++a)
-      value[a][v] = common + B[a][0] * g[0] + B[a][1] * g[1] + B[a][2] * g[2];
+    for (int a = 0; a < 4; ++a) value[a][v] = common + B[a][0] * g[0] + B[a][1] * g[1] + B[a][2] * g[2];
   }
   if (!k.mesh_moves) return;
   const Real c_mesh = dt * V / 20.0;
@@ -241,8 +232,8 @@ inline void element_contributions(const KernelConstants& k, const ElementData<Re
   for (int v = 0; v < num_variables; ++v) {
     const Real common = 4.0 * c_mesh * s.mesh_term[v] + c_tg_mesh * s.tg_mesh[v];
     for (int a = 0; a < 4; ++a)
-      value[a][v] += common + c_mesh * (s.w[a][0] * s.grad_u[v][0] + s.w[a][1] * s.grad_u[v][1] +
-                                        s.w[a][2] * s.grad_u[v][2]);
+      value[a][v] +=
+          common + c_mesh * (s.w[a][0] * s.grad_u[v][0] + s.w[a][1] * s.grad_u[v][1] + s.w[a][2] * s.grad_u[v][2]);
   }
 }
 

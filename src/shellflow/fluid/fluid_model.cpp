@@ -1,13 +1,12 @@
 #include "shellflow/fluid/fluid_model.h"
 
+#include <fmt/format.h>
+#include <omp.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
-
-#include <omp.h>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/mass.h"
@@ -16,17 +15,16 @@
 
 namespace shellflow::fluid {
 
-FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options,
-                       std::vector<BoundaryCondition> conditions)
+FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions)
     : mesh_(std::move(mesh)), options_(options) {
   if (mesh_.cells.type != mesh::ElementType::tet4)
-    throw InputError(fmt::format("fluid mesh '{}' ({}) has {} cells; the fluid solver needs "
-                                 "4-node tetrahedra (Mesh.ElementOrder = 1)",
-                                 mesh_.name, mesh_.source,
-                                 mesh::element_info(mesh_.cells.type).short_name));
+    throw InputError(
+        fmt::format("fluid mesh '{}' ({}) has {} cells; the fluid solver needs "
+                    "4-node tetrahedra (Mesh.ElementOrder = 1)",
+                    mesh_.name, mesh_.source, mesh::element_info(mesh_.cells.type).short_name));
   const Index nn = mesh_.num_nodes();
-  colours_ = colour_cells(mesh_.cells.connectivity, 4, nn,
-                          default_block_size(mesh_.num_cells(), omp_get_max_threads()));
+  colours_ =
+      colour_cells(mesh_.cells.connectivity, 4, nn, default_block_size(mesh_.num_cells(), omp_get_max_threads()));
   tets_.reserve(mesh_.cells.connectivity.size());
   for (const Index c : colours_.order) {
     const auto cell = mesh_.cells.element(c);
@@ -44,8 +42,7 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options,
 }
 
 void FluidModel::set_state(const std::function<Primitive(const Vec3&)>& field) {
-  for (Index a = 0; a < mesh_.num_nodes(); ++a)
-    state_.set(a, to_conservative(options_.gas, field(x_[std::size_t(a)])));
+  for (Index a = 0; a < mesh_.num_nodes(); ++a) state_.set(a, to_conservative(options_.gas, field(x_[std::size_t(a)])));
   boundaries_.apply(options_.gas, time_, x_, w_, state_, true);
   check_positivity(state_, time_);
   viscosity_valid_ = false;
@@ -53,16 +50,15 @@ void FluidModel::set_state(const std::function<Primitive(const Vec3&)>& field) {
 
 void FluidModel::set_state(const FluidState& state) {
   if (state.size() != mesh_.num_nodes())
-    throw InputError(fmt::format("fluid state has {} nodes, mesh '{}' has {}", state.size(),
-                                 mesh_.name, mesh_.num_nodes()));
+    throw InputError(
+        fmt::format("fluid state has {} nodes, mesh '{}' has {}", state.size(), mesh_.name, mesh_.num_nodes()));
   state_ = state;
   viscosity_valid_ = false;
 }
 
 void FluidModel::set_mesh_velocity(std::span<const Vec3> w) {
   if (w.size() != x_.size())
-    throw InputError(fmt::format("fluid mesh velocity has {} entries for {} nodes", w.size(),
-                                 x_.size()));
+    throw InputError(fmt::format("fluid mesh velocity has {} entries for {} nodes", w.size(), x_.size()));
   w_.assign(w.begin(), w.end());
 }
 
@@ -72,8 +68,7 @@ void FluidModel::set_wall_velocity(std::string_view group, std::span<const Vec3>
 
 void FluidModel::pressures(std::span<const Index> nodes, std::span<double> out) const {
   if (nodes.size() != out.size())
-    throw InputError(fmt::format("fluid pressures: {} nodes but room for {} values", nodes.size(),
-                                 out.size()));
+    throw InputError(fmt::format("fluid pressures: {} nodes but room for {} values", nodes.size(), out.size()));
   for (std::size_t k = 0; k < nodes.size(); ++k) out[k] = pressure(nodes[k]);
 }
 
@@ -86,9 +81,10 @@ void FluidModel::restore(const FluidSnapshot& s) {
   bool sizes = s.x.size() == nn && s.w.size() == nn;
   for (const auto& v : s.U.var) sizes = sizes && v.size() == nn;
   if (!sizes)
-    throw InputError(fmt::format("fluid snapshot with {} states, {} positions and {} velocities "
-                                 "for mesh '{}' of {} nodes",
-                                 s.U.size(), s.x.size(), s.w.size(), mesh_.name, nn));
+    throw InputError(
+        fmt::format("fluid snapshot with {} states, {} positions and {} velocities "
+                    "for mesh '{}' of {} nodes",
+                    s.U.size(), s.x.size(), s.w.size(), mesh_.name, nn));
   compute_geometry(s.x, loop(), next_geometry_);  // throws before anything changes
   boundaries_.restore_wall_velocities(s.wall_velocity);
   std::swap(geometry_, next_geometry_);
@@ -139,24 +135,24 @@ void FluidModel::check_cfl(double cfl) const {
   // at 1.0 with lumped mass; the consistent mass lowers the limit to about 0.6x (spec §5).
   const double limit = options_.consistent_mass_iterations > 0 ? 0.6 : 1.0;
   if (!(cfl > 0.0) || cfl > limit)
-    throw InputError(fmt::format(
-        "fluid CFL number {} is outside (0, {}]: the explicit step is unstable above it "
-        "({} mass); use 0.5 (lumped) or 0.3 (consistent)",
-        cfl, limit, options_.consistent_mass_iterations > 0 ? "consistent" : "lumped"));
+    throw InputError(
+        fmt::format("fluid CFL number {} is outside (0, {}]: the explicit step is unstable above it "
+                    "({} mass); use 0.5 (lumped) or 0.3 (consistent)",
+                    cfl, limit, options_.consistent_mass_iterations > 0 ? "consistent" : "lumped"));
 }
 
 void FluidModel::update_viscosity() {
   if (viscosity_valid_) return;
-  compute_artificial_viscosity(options_.gas, options_.q_dif, options_.av_smoothing, loop(),
-                               geometry_, state_, av_work_, viscosity_);
+  compute_artificial_viscosity(options_.gas, options_.q_dif, options_.av_smoothing, loop(), geometry_, state_, av_work_,
+                               viscosity_);
   viscosity_valid_ = true;
 }
 
 double FluidModel::stable_dt(double cfl) {
   check_cfl(cfl);
   update_viscosity();
-  return cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_,
-                                     time_step_diffusivity(), time_step_work_);
+  return cfl *
+         min_element_time_step(options_.gas, tets_, geometry_, state_, w_, time_step_diffusivity(), time_step_work_);
 }
 
 std::span<const double> FluidModel::time_step_diffusivity() {
@@ -174,9 +170,8 @@ void FluidModel::step(double dt, std::span<const Vec3> x_next, std::span<const V
 void FluidModel::step_local(double cfl) {
   check_cfl(cfl);
   update_viscosity();
-  const double dt_min = cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_,
-                                                    time_step_diffusivity(), time_step_work_,
-                                                    &element_dt_);
+  const double dt_min = cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_, time_step_diffusivity(),
+                                                    time_step_work_, &element_dt_);
   for (auto& dt : element_dt_) dt *= cfl;
   nodal_dt_.assign(std::size_t(mesh_.num_nodes()), std::numeric_limits<double>::infinity());
   for (std::size_t e = 0; e < element_dt_.size(); ++e)
@@ -188,14 +183,15 @@ void FluidModel::step_local(double cfl) {
   advance(dt_min, x_, {}, true);
 }
 
-void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w,
-                         bool local) {
+void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w, bool local) {
   const Index nn = mesh_.num_nodes();
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw SolverError(fmt::format("fluid time step {} at t = {} is not positive", dt, time_));
   if (x_next.size() != std::size_t(nn) || (!w.empty() && w.size() != std::size_t(nn)))
-    throw InputError(fmt::format("fluid mesh motion: {} positions and {} velocities for {} "
-                                 "nodes", x_next.size(), w.size(), nn));
+    throw InputError(
+        fmt::format("fluid mesh motion: {} positions and {} velocities for {} "
+                    "nodes",
+                    x_next.size(), w.size(), nn));
   const bool moves = x_next.data() != x_.data();
   using Clock = std::chrono::steady_clock;
   auto clock = Clock::now();
@@ -218,20 +214,17 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   lap(timings_.mesh_velocity);
   update_viscosity();
   lap(timings_.viscosity);
-  ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction,
-                       mesh_moves, {}, {}};
+  ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction, mesh_moves, {}, {}};
   if (local) {
     p.element_dt = element_dt_;
     p.nodal_dt = nodal_dt_;
   }
   assemble_residual(p, loop(), geometry_, state_, w_step, viscosity_, residual_);
-  add_natural_boundary_term(p, loop(), x_, geometry_, state_, w_step,
-                            boundaries_.natural_faces(), residual_);
+  add_natural_boundary_term(p, loop(), x_, geometry_, state_, w_step, boundaries_.natural_faces(), residual_);
   if (options_.gas.viscous()) {
-    add_viscous_residual(options_.gas, dt, p.nodal_dt, loop(), geometry_, state_, residual_,
-                         viscous_work_);
-    add_wall_work(options_.gas, dt, p.nodal_dt, tets_, x_, geometry_, state_,
-                  boundaries_.adiabatic_wall_faces(), residual_);
+    add_viscous_residual(options_.gas, dt, p.nodal_dt, loop(), geometry_, state_, residual_, viscous_work_);
+    add_wall_work(options_.gas, dt, p.nodal_dt, tets_, x_, geometry_, state_, boundaries_.adiabatic_wall_faces(),
+                  residual_);
   }
   lap(timings_.element_pass);
   const auto& m = geometry_.lumped_mass;
@@ -240,10 +233,9 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     mass_work_.resize(nn);
     // Dirichlet increments (inflow, no-slip) re-imposed after every sweep (spec §5).
     const double t_end_of_step = time_ + dt;
-    solve_consistent_mass(loop(), geometry_, residual_, options_.consistent_mass_iterations,
-                          increment_, mass_work_, [&](FluidState& dx) {
-                            boundaries_.impose_dirichlet_increments(options_.gas, t_end_of_step,
-                                                                    x_next, state_, dx);
+    solve_consistent_mass(loop(), geometry_, residual_, options_.consistent_mass_iterations, increment_, mass_work_,
+                          [&](FluidState& dx) {
+                            boundaries_.impose_dirichlet_increments(options_.gas, t_end_of_step, x_next, state_, dx);
                           });
     for (int v = 0; v < num_variables; ++v) {
       const auto& u = state_.var[std::size_t(v)];
@@ -323,13 +315,12 @@ void FluidModel::check_positivity(const FluidState& u, double t) const {
   if (bad < 0) return;
   const Primitive s = to_primitive(options_.gas, u.get(bad));
   const Vec3& x = x_[std::size_t(bad)];
-  throw SolverError(fmt::format(
-      "fluid state not physical at node {} (tag {}, x = ({:.6g}, {:.6g}, {:.6g})) at t = {:.6g}: "
-      "rho = {:.6g}, u = ({:.6g}, {:.6g}, {:.6g}), p = {:.6g}; lower the CFL number or raise "
-      "q_dif",
-      bad, mesh_.node_tags.size() > std::size_t(bad) ? mesh_.node_tags[std::size_t(bad)] : 0,
-      x.x(), x.y(), x.z(), t, s.rho, s.velocity.x(), s.velocity.y(), s.velocity.z(),
-      s.pressure));
+  throw SolverError(
+      fmt::format("fluid state not physical at node {} (tag {}, x = ({:.6g}, {:.6g}, {:.6g})) at t = {:.6g}: "
+                  "rho = {:.6g}, u = ({:.6g}, {:.6g}, {:.6g}), p = {:.6g}; lower the CFL number or raise "
+                  "q_dif",
+                  bad, mesh_.node_tags.size() > std::size_t(bad) ? mesh_.node_tags[std::size_t(bad)] : 0, x.x(), x.y(),
+                  x.z(), t, s.rho, s.velocity.x(), s.velocity.y(), s.velocity.z(), s.pressure));
 }
 
 Vec3 FluidModel::pressure_force(std::string_view group_name) const {
@@ -341,9 +332,10 @@ Vec3 FluidModel::pressure_force(std::string_view group_name) const {
     const BoundaryFace face = boundaries_.owner_of(n[0], n[1], n[2]);
     const Vec3 area = face_area_vector(x_, face);
     double p = 0.0;
-    for (const Index a : n) p += options_.gas.pressure(state_.var[0][std::size_t(a)], state_.var[1][std::size_t(a)],
-                                                        state_.var[2][std::size_t(a)], state_.var[3][std::size_t(a)],
-                                                        state_.var[4][std::size_t(a)]);
+    for (const Index a : n)
+      p += options_.gas.pressure(state_.var[0][std::size_t(a)], state_.var[1][std::size_t(a)],
+                                 state_.var[2][std::size_t(a)], state_.var[3][std::size_t(a)],
+                                 state_.var[4][std::size_t(a)]);
     force += area * (p / 3.0);
   }
   return force;
@@ -419,8 +411,7 @@ WallTraction FluidModel::wall_traction(std::string_view group_name) const {
 
 double FluidModel::total_mass() const {
   double mass = 0.0;
-  for (std::size_t a = 0; a < std::size_t(mesh_.num_nodes()); ++a)
-    mass += geometry_.lumped_mass[a] * state_.var[0][a];
+  for (std::size_t a = 0; a < std::size_t(mesh_.num_nodes()); ++a) mass += geometry_.lumped_mass[a] * state_.var[0][a];
   return mass;
 }
 
@@ -445,12 +436,14 @@ std::size_t bytes(const TetGeometry& g) {
 std::size_t FluidModel::memory_bytes() const {
   std::size_t b = bytes(mesh_.nodes) + bytes(mesh_.node_tags) + bytes(mesh_.cells.connectivity);
   for (const auto& g : mesh_.groups) b += bytes(g.elements.connectivity) + bytes(g.nodes) + bytes(g.cells);
-  b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_) + bytes(w_next_) + bytes(rate_sums_);
+  b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_) + bytes(w_next_) +
+       bytes(rate_sums_);
   b += bytes(geometry_) + bytes(next_geometry_);
   b += bytes(state_) + bytes(next_state_) + bytes(residual_) + bytes(increment_) + bytes(mass_work_);
   b += bytes(av_work_.pressure) + bytes(av_work_.nodal_viscosity) + bytes(av_work_.speed);
   for (const auto& g : av_work_.gradient) b += bytes(g);
-  b += bytes(viscosity_) + bytes(diffusivity_) + bytes(viscous_work_) + bytes(time_step_work_) + bytes(element_dt_) + bytes(nodal_dt_);
+  b += bytes(viscosity_) + bytes(diffusivity_) + bytes(viscous_work_) + bytes(time_step_work_) + bytes(element_dt_) +
+       bytes(nodal_dt_);
   return b;  // boundary data (surface only) not counted
 }
 

@@ -20,7 +20,6 @@
 #include "shellflow/fluid/ordering.h"
 #include "shellflow/fluid/residual.h"
 #include "shellflow/fluid/shock_capturing.h"
-#include "shellflow/core/archive.h"
 #include "shellflow/fluid/state.h"
 #include "shellflow/fluid/viscous.h"
 #include "shellflow/mesh/mesh.h"
@@ -45,7 +44,7 @@ struct StepTimings {
 };
 
 struct FluidOptions {
-  IdealGas gas;  ///< gas.viscosity set: Navier–Stokes (viscous pass, no-slip walls allowed)
+  IdealGas gas;              ///< gas.viscosity set: Navier–Stokes (viscous pass, no-slip walls allowed)
   double q_dif = 0.0;        ///< artificial-viscosity coefficient (paper eq. 28), 0 = off
   bool av_smoothing = true;  ///< spread nu over one element layer (fluid.md §7 step 5)
   TgVelocity tg_velocity = TgVelocity::relative;
@@ -59,25 +58,25 @@ struct FluidOptions {
 /// nodal p and tau can also be interpolated to other points (shell load points) and
 /// combined with another normal: q = p n - tau n.
 struct WallTraction {
-  std::vector<Index> nodes;     ///< the group's nodes (sorted)
-  std::vector<Vec3> normal;     ///< unit outward normal of the fluid domain (into the structure)
-  std::vector<double> pressure; ///< nodal p
-  std::vector<Mat3> stress;     ///< nodal tau: volume-weighted mean of the adjacent elements'
-  std::vector<Vec3> traction;   ///< q = p n - tau n: force per area on the structure
-  std::vector<Vec3> shear;      ///< viscous part -tau n (zero for Euler)
+  std::vector<Index> nodes;      ///< the group's nodes (sorted)
+  std::vector<Vec3> normal;      ///< unit outward normal of the fluid domain (into the structure)
+  std::vector<double> pressure;  ///< nodal p
+  std::vector<Mat3> stress;      ///< nodal tau: volume-weighted mean of the adjacent elements'
+  std::vector<Vec3> traction;    ///< q = p n - tau n: force per area on the structure
+  std::vector<Vec3> shear;       ///< viscous part -tau n (zero for Euler)
 };
 
 /// Everything a step depends on besides the mesh and the options: restoring it and
 /// stepping gives the same bits as the original run (FluidModel::snapshot / restore).
 struct FluidSnapshot {
-  FluidState U;                ///< conservative nodal state
-  std::vector<Vec3> x, w;      ///< node positions and the mesh velocity of the last step
+  FluidState U;            ///< conservative nodal state
+  std::vector<Vec3> x, w;  ///< node positions and the mesh velocity of the last step
   double time = 0.0;
   long steps = 0;
   /// Per-node wall velocities set with set_wall_velocity, per boundary condition (empty:
   /// not set, the closure applies).
   std::vector<std::vector<Vec3>> wall_velocity;
-  double density_rate = 0.0;   ///< monitor of the last step
+  double density_rate = 0.0;  ///< monitor of the last step
 };
 
 class FluidModel {
@@ -113,8 +112,8 @@ class FluidModel {
   /// Pressure at a node (no allocation, no bounds check).
   double pressure(Index node) const {
     const auto i = std::size_t(node);
-    return options_.gas.pressure(state_.var[0][i], state_.var[1][i], state_.var[2][i],
-                                 state_.var[3][i], state_.var[4][i]);
+    return options_.gas.pressure(state_.var[0][i], state_.var[1][i], state_.var[2][i], state_.var[3][i],
+                                 state_.var[4][i]);
   }
   /// Pressures at `nodes` into `out` (same size; InputError otherwise). No allocation.
   void pressures(std::span<const Index> nodes, std::span<double> out) const;

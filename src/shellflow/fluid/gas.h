@@ -17,17 +17,19 @@ const char* to_string(ViscosityLaw law);
 
 struct Viscosity {
   ViscosityLaw law = ViscosityLaw::none;
-  double mu_ref = 1.716e-5;     ///< Pa s: the constant mu, or Sutherland's mu at t_ref (air)
-  double t_ref = 273.15;        ///< K, Sutherland reference temperature (air)
-  double sutherland = 110.4;    ///< K, Sutherland constant S (air)
+  double mu_ref = 1.716e-5;   ///< Pa s: the constant mu, or Sutherland's mu at t_ref (air)
+  double t_ref = 273.15;      ///< K, Sutherland reference temperature (air)
+  double sutherland = 110.4;  ///< K, Sutherland constant S (air)
   double prandtl = 0.72;
 
   bool viscous() const { return law != ViscosityLaw::none; }
   /// mu at temperature T (0 for Euler).
   double dynamic(double temperature) const {
     switch (law) {
-      case ViscosityLaw::none: return 0.0;
-      case ViscosityLaw::constant: return mu_ref;
+      case ViscosityLaw::none:
+        return 0.0;
+      case ViscosityLaw::constant:
+        return mu_ref;
       case ViscosityLaw::sutherland: {
         const double r = temperature / t_ref;
         return mu_ref * r * std::sqrt(r) * (t_ref + sutherland) / (temperature + sutherland);
@@ -74,13 +76,11 @@ struct Conservative {
 };
 
 inline Conservative to_conservative(const IdealGas& gas, const Primitive& w) {
-  return {w.rho, w.rho * w.velocity,
-          w.pressure / (gas.gamma - 1.0) + 0.5 * w.rho * w.velocity.squaredNorm()};
+  return {w.rho, w.rho * w.velocity, w.pressure / (gas.gamma - 1.0) + 0.5 * w.rho * w.velocity.squaredNorm()};
 }
 
 inline Primitive to_primitive(const IdealGas& gas, const Conservative& q) {
-  return {q.rho, q.momentum / q.rho,
-          gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy)};
+  return {q.rho, q.momentum / q.rho, gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy)};
 }
 
 }  // namespace shellflow::fluid

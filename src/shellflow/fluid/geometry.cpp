@@ -1,9 +1,9 @@
 #include "shellflow/fluid/geometry.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/element_loop.h"
@@ -56,10 +56,10 @@ void element_geometry(std::span<const Vec3> x, std::span<const Index> tets, TetG
   }
   if (first_bad >= 0) {
     const Index* n = tets.data() + 4 * static_cast<std::size_t>(first_bad);
-    throw SolverError(fmt::format(
-        "fluid element {} (nodes {} {} {} {}) has volume {:.3e} <= 0: the mesh update "
-        "inverted it; reduce the time step or the mesh deformation",
-        first_bad, n[0], n[1], n[2], n[3], g.volume[static_cast<std::size_t>(first_bad)]));
+    throw SolverError(
+        fmt::format("fluid element {} (nodes {} {} {} {}) has volume {:.3e} <= 0: the mesh update "
+                    "inverted it; reduce the time step or the mesh deformation",
+                    first_bad, n[0], n[1], n[2], n[3], g.volume[static_cast<std::size_t>(first_bad)]));
   }
 }
 
@@ -71,8 +71,7 @@ void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets, TetG
   for (Index e = 0; e < ne; ++e) {
     const double quarter = 0.25 * g.volume[static_cast<std::size_t>(e)];
     for (int a = 0; a < 4; ++a)
-      g.lumped_mass[static_cast<std::size_t>(tets[4 * static_cast<std::size_t>(e) + a])] +=
-          quarter;
+      g.lumped_mass[static_cast<std::size_t>(tets[4 * static_cast<std::size_t>(e) + a])] += quarter;
   }
 }
 

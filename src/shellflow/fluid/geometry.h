@@ -22,8 +22,7 @@ struct TetGeometry {
 /// Fills `geometry` for the 4-node tetrahedra `tets` (flat connectivity) at positions `x`.
 /// Throws SolverError naming the element and its nodes when a volume is not positive
 /// (inverted or degenerate element after a mesh update).
-void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets,
-                      TetGeometry& geometry);
+void compute_geometry(std::span<const Vec3> x, std::span<const Index> tets, TetGeometry& geometry);
 /// The same for the elements of a colour-ordered loop (`loop.tets`): the lumped mass is
 /// scattered colour by colour in parallel, with the same bits as the serial sum (every node
 /// gets its elements' shares in element order either way).

@@ -11,16 +11,13 @@
 namespace shellflow::fluid {
 
 /// out = M_C x (all five variables).
-void apply_consistent_mass(const ElementLoop& loop, const TetGeometry& geometry,
-                           const FluidState& x, FluidState& out);
+void apply_consistent_mass(const ElementLoop& loop, const TetGeometry& geometry, const FluidState& x, FluidState& out);
 
 /// Solves M_C dx = r approximately: dx = M_L^{-1} r, then `iterations` Jacobi sweeps
 /// dx += M_L^{-1} (r - M_C dx). `reimpose`, when set, overwrites the increments of
 /// Dirichlet nodes after every sweep (so wrong values there do not spread). `work` is
 /// scratch of the same size.
-void solve_consistent_mass(const ElementLoop& loop, const TetGeometry& geometry,
-                           const FluidState& r, int iterations, FluidState& dx,
-                           FluidState& work,
-                           const std::function<void(FluidState&)>& reimpose = {});
+void solve_consistent_mass(const ElementLoop& loop, const TetGeometry& geometry, const FluidState& r, int iterations,
+                           FluidState& dx, FluidState& work, const std::function<void(FluidState&)>& reimpose = {});
 
 }  // namespace shellflow::fluid

@@ -40,8 +40,7 @@ Adjacency node_adjacency(std::span<const Index> conn, int npc, Index num_nodes) 
 }
 
 /// Breadth-first level structure from `root`; returns the visit order, marks `level`.
-std::vector<Index> bfs(const Adjacency& adj, Index root, std::vector<Index>& level,
-                       bool sort_by_degree) {
+std::vector<Index> bfs(const Adjacency& adj, Index root, std::vector<Index>& level, bool sort_by_degree) {
   std::vector<Index> order{root};
   level[std::size_t(root)] = 0;
   std::vector<Index> next;
@@ -56,8 +55,7 @@ std::vector<Index> bfs(const Adjacency& adj, Index root, std::vector<Index>& lev
       }
     }
     if (sort_by_degree)
-      std::stable_sort(next.begin(), next.end(),
-                       [&](Index p, Index q) { return adj.degree(p) < adj.degree(q); });
+      std::stable_sort(next.begin(), next.end(), [&](Index p, Index q) { return adj.degree(p) < adj.degree(q); });
     order.insert(order.end(), next.begin(), next.end());
   }
   return order;
@@ -65,8 +63,7 @@ std::vector<Index> bfs(const Adjacency& adj, Index root, std::vector<Index>& lev
 
 }  // namespace
 
-std::vector<Index> reverse_cuthill_mckee(std::span<const Index> conn, int npc,
-                                         Index num_nodes) {
+std::vector<Index> reverse_cuthill_mckee(std::span<const Index> conn, int npc, Index num_nodes) {
   const Adjacency adj = node_adjacency(conn, npc, num_nodes);
   std::vector<Index> cm;  // Cuthill–McKee order (old indices)
   cm.reserve(std::size_t(num_nodes));
@@ -74,8 +71,7 @@ std::vector<Index> reverse_cuthill_mckee(std::span<const Index> conn, int npc,
   std::vector<Index> level(static_cast<std::size_t>(num_nodes), -1);
   std::vector<Index> by_degree(static_cast<std::size_t>(num_nodes));
   std::iota(by_degree.begin(), by_degree.end(), 0);
-  std::stable_sort(by_degree.begin(), by_degree.end(),
-                   [&](Index p, Index q) { return adj.degree(p) < adj.degree(q); });
+  std::stable_sort(by_degree.begin(), by_degree.end(), [&](Index p, Index q) { return adj.degree(p) < adj.degree(q); });
   for (const Index start : by_degree) {
     if (visited[std::size_t(start)] >= 0 || adj.degree(start) == 0) continue;
     // Pseudo-peripheral root: hop to a minimum-degree node of the last level while the
@@ -108,8 +104,7 @@ std::vector<Index> reverse_cuthill_mckee(std::span<const Index> conn, int npc,
 Index node_bandwidth(std::span<const Index> conn, int npc) {
   Index bw = 0;
   for (std::size_t c = 0; c < conn.size() / std::size_t(npc); ++c) {
-    const auto [lo, hi] = std::minmax_element(conn.begin() + long(c * npc),
-                                              conn.begin() + long((c + 1) * npc));
+    const auto [lo, hi] = std::minmax_element(conn.begin() + long(c * npc), conn.begin() + long((c + 1) * npc));
     bw = std::max(bw, *hi - *lo);
   }
   return bw;
@@ -163,8 +158,7 @@ Index default_block_size(Index num_cells, int max_threads) {
   return std::clamp<Index>(num_cells / (16 * std::max(1, max_threads)), 256, 8192);
 }
 
-CellColouring colour_cells(std::span<const Index> conn, int npc, Index num_nodes,
-                           Index block_size) {
+CellColouring colour_cells(std::span<const Index> conn, int npc, Index num_nodes, Index block_size) {
   const auto nc = static_cast<Index>(conn.size() / std::size_t(npc));
   block_size = std::max<Index>(1, block_size);
   const Index nb = (nc + block_size - 1) / block_size;
@@ -187,8 +181,9 @@ CellColouring colour_cells(std::span<const Index> conn, int npc, Index num_nodes
     } else if (~mask[1] != 0) {
       k = 64 + std::countr_one(mask[1]);
     } else {
-      throw SolverError("fluid mesh needs more than 128 element colours: a node has too "
-                        "many elements; check the mesh quality");
+      throw SolverError(
+          "fluid mesh needs more than 128 element colours: a node has too "
+          "many elements; check the mesh quality");
     }
     colour[std::size_t(b)] = k;
     num_colours = std::max(num_colours, k + 1);
@@ -198,8 +193,7 @@ CellColouring colour_cells(std::span<const Index> conn, int npc, Index num_nodes
   CellColouring out;
   out.colour_offsets.assign(std::size_t(num_colours) + 1, 0);
   for (const int k : colour) ++out.colour_offsets[std::size_t(k) + 1];
-  for (int k = 0; k < num_colours; ++k)
-    out.colour_offsets[std::size_t(k) + 1] += out.colour_offsets[std::size_t(k)];
+  for (int k = 0; k < num_colours; ++k) out.colour_offsets[std::size_t(k) + 1] += out.colour_offsets[std::size_t(k)];
   std::vector<Index> blocks(static_cast<std::size_t>(nb));  // block ids in colour order
   auto fill = out.colour_offsets;
   for (Index b = 0; b < nb; ++b) blocks[std::size_t(fill[std::size_t(colour[std::size_t(b)])]++)] = b;

@@ -13,8 +13,7 @@ namespace shellflow::fluid {
 /// Reverse Cuthill–McKee order of the nodes of the cells `connectivity` (any cell type):
 /// returns new_index[old_index]. Each connected component starts at a pseudo-peripheral
 /// node; nodes in no cell go last.
-std::vector<Index> reverse_cuthill_mckee(std::span<const Index> connectivity,
-                                         int nodes_per_cell, Index num_nodes);
+std::vector<Index> reverse_cuthill_mckee(std::span<const Index> connectivity, int nodes_per_cell, Index num_nodes);
 
 /// Largest |i - j| over node pairs sharing a cell (the bandwidth RCM reduces).
 Index node_bandwidth(std::span<const Index> connectivity, int nodes_per_cell);
@@ -39,8 +38,8 @@ struct CellColouring {
 
 /// Splits the cells (in their order) into blocks of `block_size` and colours the blocks
 /// greedily. block_size = 1 is the plain element colouring.
-CellColouring colour_cells(std::span<const Index> connectivity, int nodes_per_cell,
-                           Index num_nodes, Index block_size = 1);
+CellColouring colour_cells(std::span<const Index> connectivity, int nodes_per_cell, Index num_nodes,
+                           Index block_size = 1);
 
 /// Block size for `num_cells` cells: about 16 blocks per thread, 256 to 8192 cells each.
 Index default_block_size(Index num_cells, int max_threads);

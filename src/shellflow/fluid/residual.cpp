@@ -1,13 +1,12 @@
 #include "shellflow/fluid/residual.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
 
-#include <fmt/format.h>
-
 #include "shellflow/core/error.h"
-
 #include "shellflow/fluid/element_kernel.h"
 
 namespace shellflow::fluid {
@@ -69,8 +68,7 @@ template <int W>
         for (int j = 0; j < 3; ++j) s.grad[a][j][l] = b[std::size_t(3 * a + j)];
         const Index n = in.loop.tets[4 * e + std::size_t(a)];
         nodes[l][a] = n;
-        for (int v = 0; v < num_variables; ++v)
-          s.u[a][v][l] = in.u.var[std::size_t(v)][std::size_t(n)];
+        for (int v = 0; v < num_variables; ++v) s.u[a][v][l] = in.u.var[std::size_t(v)][std::size_t(n)];
         if (k.mesh_moves)
           for (int j = 0; j < 3; ++j) s.w[a][j][l] = in.w[std::size_t(n)][j];
       }
@@ -92,16 +90,13 @@ template <int W>
 
 // One function per instruction set, everything inlined into it (flatten) so that the kernel
 // is compiled for that set. The parallel loop stays outside, in the baseline code.
-[[gnu::flatten]] void pass_block_sse2(const PassInput& in, Index first, Index last) {
-  pass_block<2>(in, first, last);
-}
-[[gnu::flatten, gnu::target("avx2")]] void pass_block_avx2(const PassInput& in, Index first,
-                                                           Index last) {
+[[gnu::flatten]] void pass_block_sse2(const PassInput& in, Index first, Index last) { pass_block<2>(in, first, last); }
+[[gnu::flatten, gnu::target("avx2")]] void pass_block_avx2(const PassInput& in, Index first, Index last) {
   pass_block<4>(in, first, last);
 }
 // The project builds as ISO C++ (no contraction); this variant asks for it.
-[[gnu::flatten, gnu::target("avx2,fma"), gnu::optimize("fp-contract=fast")]] void
-pass_block_avx2_fma(const PassInput& in, Index first, Index last) {
+[[gnu::flatten, gnu::target("avx2,fma"), gnu::optimize("fp-contract=fast")]] void pass_block_avx2_fma(
+    const PassInput& in, Index first, Index last) {
   pass_block<4>(in, first, last);
 }
 [[gnu::flatten, gnu::target("avx512f,avx512dq,avx512vl,avx2,fma"), gnu::optimize("fp-contract=fast")]] void
@@ -119,8 +114,7 @@ bool cpu_has(SimdPath path) {
       return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
     case SimdPath::avx512:
       return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
-             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") &&
-             __builtin_cpu_supports("fma");
+             __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   }
   return false;
 }
@@ -128,8 +122,8 @@ bool cpu_has(SimdPath path) {
 SimdPath best_path() {
   return cpu_has(SimdPath::avx512)     ? SimdPath::avx512
          : cpu_has(SimdPath::avx2_fma) ? SimdPath::avx2_fma
-         : cpu_has(SimdPath::avx2)   ? SimdPath::avx2
-                                     : SimdPath::sse2;
+         : cpu_has(SimdPath::avx2)     ? SimdPath::avx2
+                                       : SimdPath::sse2;
 }
 
 std::atomic<int>& chosen_path() {
@@ -157,8 +151,7 @@ SimdPath parse_simd_path(std::string_view name, std::string_view origin) {
   if (name == "auto") return best_path();
   for (const SimdPath path : {SimdPath::sse2, SimdPath::avx2, SimdPath::avx2_fma, SimdPath::avx512})
     if (name == to_string(path)) {
-      if (!cpu_has(path))
-        throw_input_error("{}: this CPU has no {}; use auto or sse2", origin, to_string(path));
+      if (!cpu_has(path)) throw_input_error("{}: this CPU has no {}; use auto or sse2", origin, to_string(path));
       return path;
     }
   throw_input_error("{}: unknown instruction set '{}'; use auto, sse2, avx2, avx2-fma or avx512", origin,
@@ -169,8 +162,7 @@ SimdPath simd_path() {
   int path = chosen_path().load(std::memory_order_relaxed);
   if (path < 0) {
     const char* env = std::getenv("SHELLFLOW_SIMD");
-    const SimdPath p = env ? parse_simd_path(env, "environment variable SHELLFLOW_SIMD")
-                           : best_path();
+    const SimdPath p = env ? parse_simd_path(env, "environment variable SHELLFLOW_SIMD") : best_path();
     path = static_cast<int>(p);
     chosen_path().store(path, std::memory_order_relaxed);
   }
@@ -178,14 +170,12 @@ SimdPath simd_path() {
 }
 
 void set_simd_path(SimdPath path) {
-  if (!cpu_has(path))
-    throw_input_error("instruction set {}: this CPU does not have it", to_string(path));
+  if (!cpu_has(path)) throw_input_error("instruction set {}: this CPU does not have it", to_string(path));
   chosen_path().store(static_cast<int>(path), std::memory_order_relaxed);
 }
 
-void assemble_residual(const ResidualParameters& p, const ElementLoop& loop,
-                       const TetGeometry& g, const FluidState& u, std::span<const Vec3> w,
-                       std::span<const double> element_viscosity, FluidState& r) {
+void assemble_residual(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& g, const FluidState& u,
+                       std::span<const Vec3> w, std::span<const double> element_viscosity, FluidState& r) {
   r.fill_zero();
   PassInput in{loop,
                g,
@@ -194,8 +184,7 @@ void assemble_residual(const ResidualParameters& p, const ElementLoop& loop,
                element_viscosity,
                p.element_dt,
                p.nodal_dt,
-               {p.gas.gamma - 1.0, p.dt, p.tg_velocity == TgVelocity::relative,
-                p.moving_mesh_correction, p.mesh_moves},
+               {p.gas.gamma - 1.0, p.dt, p.tg_velocity == TgVelocity::relative, p.moving_mesh_correction, p.mesh_moves},
                p.dt,
                {}};
   if (!p.nodal_dt.empty() && p.element_dt.empty())
@@ -226,12 +215,10 @@ Vec3 face_area_vector(std::span<const Vec3> x, const BoundaryFace& f) {
   return a;
 }
 
-void add_natural_boundary_term(const ResidualParameters& p, const ElementLoop& loop,
-                               std::span<const Vec3> x, const TetGeometry& g,
-                               const FluidState& u, std::span<const Vec3> w,
+void add_natural_boundary_term(const ResidualParameters& p, const ElementLoop& loop, std::span<const Vec3> x,
+                               const TetGeometry& g, const FluidState& u, std::span<const Vec3> w,
                                std::span<const BoundaryFace> faces, FluidState& r) {
-  const detail::KernelConstants k{p.gas.gamma - 1.0, p.dt,
-                                  p.tg_velocity == TgVelocity::relative,
+  const detail::KernelConstants k{p.gas.gamma - 1.0, p.dt, p.tg_velocity == TgVelocity::relative,
                                   p.moving_mesh_correction, p.mesh_moves};
   // Serial: boundary faces are few, and faces of different elements share nodes.
   for (const auto& f : faces) {

@@ -24,13 +24,12 @@ struct ResidualParameters {
   double dt = 0.0;
   TgVelocity tg_velocity = TgVelocity::relative;
   bool moving_mesh_correction = true;  ///< the C2 term
-  bool mesh_moves = true;  ///< false promises w = 0 at every node (skips the ALE terms)
+  bool mesh_moves = true;              ///< false promises w = 0 at every node (skips the ALE terms)
   /// Local time stepping (steady runs only): per-element and per-node steps; empty: the
   /// global dt. dt^2 becomes dt_a dt_e (fluid.md §4.3).
   std::span<const double> element_dt;
   std::span<const double> nodal_dt;
 };
-
 
 /// Instruction set of the element pass. `sse2` (2 elements per instruction, the x86-64
 /// baseline) is the reference; `avx2` (4 elements) gives the same bits; `avx2_fma` adds fused
@@ -52,9 +51,8 @@ SimdPath parse_simd_path(std::string_view name, std::string_view origin);
 /// ALE mesh term, Taylor–Galerkin term with the full relative Jacobian (C1), its moving-mesh
 /// correction (C2) and the artificial diffusion with element viscosity `element_viscosity`
 /// (empty: none). Geometry is that of x^n, `w` the mesh velocity of the step.
-void assemble_residual(const ResidualParameters& p, const ElementLoop& loop,
-                       const TetGeometry& geometry, const FluidState& u,
-                       std::span<const Vec3> w, std::span<const double> element_viscosity,
+void assemble_residual(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& geometry,
+                       const FluidState& u, std::span<const Vec3> w, std::span<const double> element_viscosity,
                        FluidState& r);
 
 /// A face of a natural (outflow) boundary: its nodes, the element that owns it and the
@@ -70,9 +68,8 @@ Vec3 face_area_vector(std::span<const Vec3> x, const BoundaryFace& face);
 
 /// Adds the boundary integral of the Taylor–Galerkin term on natural boundaries (C3):
 /// each face node receives -Δt²/2 (A_f/3) n_k Ã_k(Ū_e) R̂_e.
-void add_natural_boundary_term(const ResidualParameters& p, const ElementLoop& loop,
-                               std::span<const Vec3> x, const TetGeometry& geometry,
-                               const FluidState& u, std::span<const Vec3> w,
+void add_natural_boundary_term(const ResidualParameters& p, const ElementLoop& loop, std::span<const Vec3> x,
+                               const TetGeometry& geometry, const FluidState& u, std::span<const Vec3> w,
                                std::span<const BoundaryFace> faces, FluidState& r);
 
 }  // namespace shellflow::fluid

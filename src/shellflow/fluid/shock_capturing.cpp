@@ -4,9 +4,8 @@
 
 namespace shellflow::fluid {
 
-void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smoothing,
-                                  const ElementLoop& loop, const TetGeometry& g,
-                                  const FluidState& u, ShockCapturingWorkspace& work,
+void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smoothing, const ElementLoop& loop,
+                                  const TetGeometry& g, const FluidState& u, ShockCapturingWorkspace& work,
                                   std::vector<double>& nu) {
   const Index ne = g.num_elements();
   const Index nn = u.size();
@@ -19,15 +18,14 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
   work.pressure.resize(std::size_t(nn));
   work.speed.resize(std::size_t(nn));
   for (auto& gr : work.gradient) gr.assign(std::size_t(nn), 0.0);
-  // Nodal p and |u| + c once per node (a node is shared by ~24 tetrahedra).
+    // Nodal p and |u| + c once per node (a node is shared by ~24 tetrahedra).
 #pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
   for (Index a = 0; a < nn; ++a) {
     const auto i = std::size_t(a);
     const double rho = u.var[0][i];
     const double p = gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
     work.pressure[i] = p;
-    work.speed[i] = std::sqrt(u.var[1][i] * u.var[1][i] + u.var[2][i] * u.var[2][i] +
-                              u.var[3][i] * u.var[3][i]) / rho +
+    work.speed[i] = std::sqrt(u.var[1][i] * u.var[1][i] + u.var[2][i] * u.var[2][i] + u.var[3][i] * u.var[3][i]) / rho +
                     gas.sound_speed(rho, p);
   }
   const auto* p = work.pressure.data();
@@ -64,8 +62,7 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     double lap = 0.0;
     for (int a = 1; a < 4; ++a) {
       const auto i = std::size_t(n[a]);
-      lap += B[3 * a] * (gx[i] - gx[i0]) + B[3 * a + 1] * (gy[i] - gy[i0]) +
-             B[3 * a + 2] * (gz[i] - gz[i0]);
+      lap += B[3 * a] * (gx[i] - gx[i0]) + B[3 * a + 1] * (gy[i] - gy[i0]) + B[3 * a + 2] * (gz[i] - gz[i0]);
     }
     const double speed_sum = speed[i0] + speed[n[1]] + speed[n[2]] + speed[n[3]];
     const double p_sum = p[i0] + p[n[1]] + p[n[2]] + p[n[3]];

@@ -15,16 +15,15 @@
 namespace shellflow::fluid {
 
 struct ShockCapturingWorkspace {
-  std::vector<double> pressure;                  // nodal p
-  std::vector<double> speed;                     // nodal |u| + c
-  std::array<std::vector<double>, 3> gradient;   // recovered nodal grad p
-  std::vector<double> nodal_viscosity;           // sum V_e nu_e, then nu_a
+  std::vector<double> pressure;                 // nodal p
+  std::vector<double> speed;                    // nodal |u| + c
+  std::array<std::vector<double>, 3> gradient;  // recovered nodal grad p
+  std::vector<double> nodal_viscosity;          // sum V_e nu_e, then nu_a
 };
 
 /// Element artificial viscosities for state u (zero everywhere when q_dif = 0).
-void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smoothing,
-                                  const ElementLoop& loop, const TetGeometry& geometry,
-                                  const FluidState& u, ShockCapturingWorkspace& work,
+void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smoothing, const ElementLoop& loop,
+                                  const TetGeometry& geometry, const FluidState& u, ShockCapturingWorkspace& work,
                                   std::vector<double>& element_viscosity);
 
 }  // namespace shellflow::fluid

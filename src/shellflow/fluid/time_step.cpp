@@ -1,18 +1,16 @@
 #include "shellflow/fluid/time_step.h"
 
-#include "shellflow/fluid/element_loop.h"
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "shellflow/fluid/element_loop.h"
+
 namespace shellflow::fluid {
 
-double min_element_time_step(const IdealGas& gas, std::span<const Index> tets,
-                             const TetGeometry& g, const FluidState& u,
-                             std::span<const Vec3> w, std::span<const double> nu,
-                             std::vector<std::array<double, 4>>& nodal,
-                             std::vector<double>* element_dt) {
+double min_element_time_step(const IdealGas& gas, std::span<const Index> tets, const TetGeometry& g,
+                             const FluidState& u, std::span<const Vec3> w, std::span<const double> nu,
+                             std::vector<std::array<double, 4>>& nodal, std::vector<double>* element_dt) {
   // Nodal relative velocity and sound speed once per node (6x fewer roots and divisions
   // than per element corner).
   const Index nn = u.size();
@@ -23,8 +21,8 @@ double min_element_time_step(const IdealGas& gas, std::span<const Index> tets,
     const double rho = u.var[0][i];
     const double inv_rho = 1.0 / rho;
     const double p = gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
-    nodal[i] = {u.var[1][i] * inv_rho - w[i].x(), u.var[2][i] * inv_rho - w[i].y(),
-                u.var[3][i] * inv_rho - w[i].z(), std::sqrt(gas.gamma * p * inv_rho)};
+    nodal[i] = {u.var[1][i] * inv_rho - w[i].x(), u.var[2][i] * inv_rho - w[i].y(), u.var[3][i] * inv_rho - w[i].z(),
+                std::sqrt(gas.gamma * p * inv_rho)};
   }
   const Index ne = g.num_elements();
   if (element_dt) element_dt->resize(std::size_t(ne));

@@ -15,10 +15,8 @@ namespace shellflow::fluid {
 /// `element_viscosity`: artificial viscosity (may be empty).
 /// `nodal_work`: scratch (relative velocity and sound speed per node); `element_dt`, when
 /// given, receives every dt_e (for local time stepping).
-double min_element_time_step(const IdealGas& gas, std::span<const Index> tets,
-                             const TetGeometry& geometry, const FluidState& u,
-                             std::span<const Vec3> w, std::span<const double> element_viscosity,
-                             std::vector<std::array<double, 4>>& nodal_work,
-                             std::vector<double>* element_dt = nullptr);
+double min_element_time_step(const IdealGas& gas, std::span<const Index> tets, const TetGeometry& geometry,
+                             const FluidState& u, std::span<const Vec3> w, std::span<const double> element_viscosity,
+                             std::vector<std::array<double, 4>>& nodal_work, std::vector<double>* element_dt = nullptr);
 
 }  // namespace shellflow::fluid

@@ -68,11 +68,11 @@ Case read_case(const YamlNode& root) {
     throw_at(c.motion->where, "a mesh-motion run needs a 'time' section (end, step)");
   }
   if (c.motion && !c.coupling && !c.motion->prescribed) {
-    throw_at(c.motion->where, "a mesh-motion run without a 'coupling' section needs 'prescribed' (the "
-                              "boundary motion); add it, or a 'coupling' section to let the shell drive it");
+    throw_at(c.motion->where,
+             "a mesh-motion run without a 'coupling' section needs 'prescribed' (the "
+             "boundary motion); add it, or a 'coupling' section to let the shell drive it");
   }
-  if (c.fluid && c.fluid->analysis && c.fluid->analysis->type == FluidAnalysisType::transient &&
-      !c.time) {
+  if (c.fluid && c.fluid->analysis && c.fluid->analysis->type == FluidAnalysisType::transient && !c.time) {
     throw_at(c.fluid->analysis->where,
              "a transient flow analysis needs a 'time' section (end; the step follows from cfl)");
   }
@@ -84,8 +84,9 @@ Case read_case(const YamlNode& root) {
     }
     for (const FluidBoundary& b : c.fluid->boundaries) {
       if (b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity != Vec3::Zero()) {
-        throw_at(b.where, "on a moving mesh a no-slip wall moves with the mesh; remove its "
-                          "'velocity' or the 'mesh_motion'");
+        throw_at(b.where,
+                 "on a moving mesh a no-slip wall moves with the mesh; remove its "
+                 "'velocity' or the 'mesh_motion'");
       }
     }
     if (c.fluid->analysis && c.fluid->analysis->type == FluidAnalysisType::steady) {
@@ -95,8 +96,7 @@ Case read_case(const YamlNode& root) {
     }
   }
   if (!c.coupling) {
-    int solvers = (c.motion ? 1 : 0) + (c.shell && c.shell->analysis ? 1 : 0) +
-                  (c.fluid && c.fluid->analysis ? 1 : 0);
+    int solvers = (c.motion ? 1 : 0) + (c.shell && c.shell->analysis ? 1 : 0) + (c.fluid && c.fluid->analysis ? 1 : 0);
     if (solvers > 1) {
       throw_at(c.motion ? c.motion->where : c.fluid->analysis->where,
                "combining mesh motion, a shell analysis and a flow analysis is a coupled run: "
@@ -110,9 +110,8 @@ Case read_case(const YamlNode& root) {
   if (auto node = root.optional_child("study")) c.study = detail::read_study(*node, c);
   root.finish();
   c.digests = case_digests(root.yaml());
-  std::stable_sort(
-      c.group_references.begin(), c.group_references.end(),
-      [](const GroupReference& a, const GroupReference& b) { return a.where.line < b.where.line; });
+  std::stable_sort(c.group_references.begin(), c.group_references.end(),
+                   [](const GroupReference& a, const GroupReference& b) { return a.where.line < b.where.line; });
   return c;
 }
 
@@ -127,21 +126,18 @@ std::string join(const std::vector<std::string>& items, std::string_view sep) {
 std::string read_name(const YamlNode& node, std::string_view key) {
   std::string value = node.required<std::string>(key);
   if (!is_valid_name(value)) {
-    node.fail(key,
-              fmt::format("must contain only letters, digits, '_', '.' and '-', got '{}'", value));
+    node.fail(key, fmt::format("must contain only letters, digits, '_', '.' and '-', got '{}'", value));
   }
   return value;
 }
 
 void require_mesh(const YamlNode& section, const MeshesSection& meshes, std::string_view mesh) {
   if (!meshes.find(mesh)) {
-    section.fail(
-        fmt::format("needs a {} mesh; expected 'meshes.{}' with 'geo' or 'msh'", mesh, mesh));
+    section.fail(fmt::format("needs a {} mesh; expected 'meshes.{}' with 'geo' or 'msh'", mesh, mesh));
   }
 }
 
-std::string read_group(const YamlNode& node, std::string_view mesh,
-                       std::vector<GroupReference>& refs) {
+std::string read_group(const YamlNode& node, std::string_view mesh, std::vector<GroupReference>& refs) {
   std::string group = node.required<std::string>("group");
   if (group.empty()) node.fail("group", "expected a physical group name, got an empty string");
   refs.push_back({group, std::string(mesh), node.location("group")});
@@ -173,15 +169,13 @@ void check_physical_groups(const Case& c, const GroupNamesOfMesh& groups_of_mesh
     if (std::find(available.begin(), available.end(), ref.group) != available.end()) continue;
 
     const MeshSpec* mesh = c.meshes.find(ref.mesh);
-    std::string what =
-        fmt::format("physical group '{}' not found in mesh '{}'", ref.group, ref.mesh);
+    std::string what = fmt::format("physical group '{}' not found in mesh '{}'", ref.group, ref.mesh);
     if (mesh) what += fmt::format(" ({})", mesh->as_written);
     if (available.empty()) {
       what += "; the mesh has no physical groups";
     } else {
       if (auto suggestion = closest_match(ref.group, available)) {
-        what +=
-            fmt::format("; did you mean '{}'? available: {}", *suggestion, detail::join(available, ", "));
+        what += fmt::format("; did you mean '{}'? available: {}", *suggestion, detail::join(available, ", "));
       } else {
         what += fmt::format("; available: {}", detail::join(available, ", "));
       }

@@ -85,8 +85,8 @@ struct CouplingSection {
   enum class MeshVelocity { positions, interpolated } mesh_velocity = MeshVelocity::positions;
   /// Absolute pressure on the shell's dry face [Pa]; absent: the free-stream pressure.
   std::optional<TimeFunction> cavity_pressure;
-  double max_gap = 1e-6;    ///< [m] largest distance between the shell and the fluid wet boundary
-  std::string fluid_group;  ///< the fluid mesh's wet boundary (euler, mesh motion)
+  double max_gap = 1e-6;           ///< [m] largest distance between the shell and the fluid wet boundary
+  std::string fluid_group;         ///< the fluid mesh's wet boundary (euler, mesh motion)
   Vec3 wet_normal = Vec3::Zero();  ///< piston theory: from the shell into the flow (unit)
   ResponseSection response;
   SourceLocation where;
@@ -131,7 +131,7 @@ struct Probe {
     std::filesystem::path file;  ///< resolved from the case file's folder; checked to exist
     std::string column;          ///< a column of its header (not the first)
     double scale = 1.0;
-    std::string label;           ///< legend text; default: the file's name and the column
+    std::string label;  ///< legend text; default: the file's name and the column
   };
   std::optional<Reference> reference;
   SourceLocation where;  ///< the list item `probes[i]`

@@ -39,8 +39,7 @@ ResponseSection read_response(const YamlNode& node) {
 
 }  // namespace
 
-CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
-                              std::vector<GroupReference>& refs) {
+CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
   CouplingSection c;
   c.where = node.location();
   c.scheme = node.choice("scheme", {"staggered", "monolithic"}, "staggered") == "monolithic"
@@ -55,9 +54,8 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
                                         *text));
     c.substeps = n;
   }
-  c.predictor = node.choice("predictor", {"none", "linear"}, "linear") == "none"
-                    ? CouplingSection::Predictor::none
-                    : CouplingSection::Predictor::linear;
+  c.predictor = node.choice("predictor", {"none", "linear"}, "linear") == "none" ? CouplingSection::Predictor::none
+                                                                                 : CouplingSection::Predictor::linear;
   c.mesh_velocity = node.choice("mesh_velocity", {"positions", "interpolated"}, "positions") == "interpolated"
                         ? CouplingSection::MeshVelocity::interpolated
                         : CouplingSection::MeshVelocity::positions;
@@ -70,8 +68,10 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
     refs.push_back({c.fluid_group, "fluid", node.location("fluid_group")});
   }
   if (node.has("wet_normal")) c.wet_normal = unit_vector(node, "wet_normal", node.vec3("wet_normal"));
-  if (auto r = node.optional_child("response")) c.response = read_response(*r);
-  else c.response.where = node.location();
+  if (auto r = node.optional_child("response"))
+    c.response = read_response(*r);
+  else
+    c.response.where = node.location();
   node.finish();
   return c;
 }
@@ -79,37 +79,42 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
 void check_coupled_case(const Case& c) {
   const CouplingSection& k = *c.coupling;
   if (!c.shell || !c.shell->analysis || c.shell->analysis->type != ShellAnalysisType::dynamic)
-    throw_at(k.where, "a coupled run needs a shell with 'analysis: {type: dynamic}' (the shell step "
-                      "is time.step)");
+    throw_at(k.where,
+             "a coupled run needs a shell with 'analysis: {type: dynamic}' (the shell step "
+             "is time.step)");
   if (c.shell->analysis->scheme != TimeScheme::newmark)
     throw_at(c.shell->analysis->where, "a coupled run uses the Newmark scheme; remove 'scheme: midpoint'");
   const bool piston = c.fluid && c.fluid->model == FluidModelType::piston_theory;
   const bool euler = c.fluid && c.fluid->model == FluidModelType::euler;
   if (k.scheme == CouplingSection::Scheme::monolithic && !piston)
-    throw_at(k.where, "scheme: monolithic puts the aerodynamic operator inside the shell's Newton "
-                      "iteration and is available with fluid.model: piston_theory only");
+    throw_at(k.where,
+             "scheme: monolithic puts the aerodynamic operator inside the shell's Newton "
+             "iteration and is available with fluid.model: piston_theory only");
   if (piston) {
     if (k.wet_normal == Vec3::Zero())
-      throw_at(k.where, "piston theory needs 'wet_normal': the unit vector from the shell into the "
-                        "flow (e.g. [0, 1, 0] for a flow above a panel in the plane y = 0)");
-    if (c.motion)
-      throw_at(c.motion->where, "piston theory has no fluid mesh to move; remove the 'motion' section");
+      throw_at(k.where,
+               "piston theory needs 'wet_normal': the unit vector from the shell into the "
+               "flow (e.g. [0, 1, 0] for a flow above a panel in the plane y = 0)");
+    if (c.motion) throw_at(c.motion->where, "piston theory has no fluid mesh to move; remove the 'motion' section");
     if (c.fluid->free_stream.mach <= 1.0)
       throw_at(k.where, fmt::format("piston theory needs a supersonic free stream, got Mach {}; use "
-                                    "fluid.model: euler", c.fluid->free_stream.mach));
+                                    "fluid.model: euler",
+                                    c.fluid->free_stream.mach));
     return;
   }
   if (!c.motion)
-    throw_at(k.where, "a coupled run on a fluid mesh needs a 'motion' section (how the fluid mesh "
-                      "follows the shell); see cases/panel_flutter/clamped_clamped.yaml");
+    throw_at(k.where,
+             "a coupled run on a fluid mesh needs a 'motion' section (how the fluid mesh "
+             "follows the shell); see cases/panel_flutter/clamped_clamped.yaml");
   if (c.motion->prescribed)
-    throw_at(c.motion->prescribed->where, "in a coupled run the shell moves the fluid mesh; remove "
-                                          "'motion.prescribed'");
+    throw_at(c.motion->prescribed->where,
+             "in a coupled run the shell moves the fluid mesh; remove "
+             "'motion.prescribed'");
   if (c.motion->method != MotionMethod::space_mesh)
-    throw_at(c.motion->where, "a coupled run moves the fluid mesh through the space mesh; use "
-                              "motion.method: space_mesh");
-  if (k.fluid_group.empty())
-    throw_at(k.where, "give 'fluid_group': the fluid mesh's wet boundary (the panel's group)");
+    throw_at(c.motion->where,
+             "a coupled run moves the fluid mesh through the space mesh; use "
+             "motion.method: space_mesh");
+  if (k.fluid_group.empty()) throw_at(k.where, "give 'fluid_group': the fluid mesh's wet boundary (the panel's group)");
   if (std::find(c.motion->interface_groups.begin(), c.motion->interface_groups.end(), k.fluid_group) ==
       c.motion->interface_groups.end())
     throw_at(k.where, fmt::format("coupling.fluid_group '{}' must be one of motion.interface_groups (the "
@@ -117,14 +122,17 @@ void check_coupled_case(const Case& c) {
                                   k.fluid_group));
   if (euler) {
     if (!c.fluid->analysis || c.fluid->analysis->type != FluidAnalysisType::transient)
-      throw_at(k.where, "a coupled run with fluid.model: euler needs 'fluid.analysis' of type transient "
-                        "(q_dif, cfl)");
+      throw_at(k.where,
+               "a coupled run with fluid.model: euler needs 'fluid.analysis' of type transient "
+               "(q_dif, cfl)");
     if (c.fluid->mesh_motion)
-      throw_at(c.fluid->mesh_motion->where, "in a coupled run the shell moves the fluid mesh; remove "
-                                            "'fluid.mesh_motion'");
+      throw_at(c.fluid->mesh_motion->where,
+               "in a coupled run the shell moves the fluid mesh; remove "
+               "'fluid.mesh_motion'");
   } else if (k.substeps == 0) {
-    throw_at(k.where, "without a flow there is no stable step to choose the sub-steps from: give "
-                      "'substeps' as a number (e.g. 10)");
+    throw_at(k.where,
+             "without a flow there is no stable step to choose the sub-steps from: give "
+             "'substeps' as a number (e.g. 10)");
   }
 }
 

@@ -73,13 +73,13 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
   if (fluid.model == FluidModelType::piston_theory) {
     for (const std::string_view key : {"boundaries", "mesh_motion", "analysis"})
       if (node.has(key))
-        node.fail(key, "piston theory computes the loads from the shell's motion, without a fluid "
-                       "mesh; remove it (or use model: euler)");
+        node.fail(key,
+                  "piston theory computes the loads from the shell's motion, without a fluid "
+                  "mesh; remove it (or use model: euler)");
   }
   if (auto gas = node.optional_child("gas")) {
     fluid.gas.gamma = gas->optional<double>("gamma", 1.4, Range::greater_than(1));
-    fluid.gas.gas_constant =
-        gas->optional<double>("gas_constant", 287.05, Range::positive(), "J/(kg K)");
+    fluid.gas.gas_constant = gas->optional<double>("gas_constant", 287.05, Range::positive(), "J/(kg K)");
     if (auto v = gas->optional_child("viscosity")) {
       Viscosity& mu = fluid.gas.viscosity;
       const std::string law = v->choice("law", {"none", "constant", "sutherland"});
@@ -101,8 +101,7 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
   fluid.free_stream.density = stream.required<double>("density", Range::positive(), "kg/m^3");
   fluid.free_stream.pressure = stream.required<double>("pressure", Range::positive(), "Pa");
   fluid.free_stream.mach = stream.required<double>("mach", Range::non_negative());
-  fluid.free_stream.direction =
-      unit_vector(stream, "direction", stream.vec3("direction", Vec3::UnitX()));
+  fluid.free_stream.direction = unit_vector(stream, "direction", stream.vec3("direction", Vec3::UnitX()));
   stream.finish();
 
   std::map<std::string, int> first_line;  // group -> line of its first boundary condition
@@ -151,15 +150,12 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
   if (auto a = node.optional_child("analysis")) {
     FluidAnalysis analysis;
     analysis.where = a->location();
-    analysis.type = a->choice("type", {"transient", "steady"}) == "steady"
-                        ? FluidAnalysisType::steady
-                        : FluidAnalysisType::transient;
+    analysis.type = a->choice("type", {"transient", "steady"}) == "steady" ? FluidAnalysisType::steady
+                                                                           : FluidAnalysisType::transient;
     analysis.q_dif = a->optional<double>("q_dif", 0.0, Range::non_negative());
-    analysis.consistent_mass_iterations =
-        a->optional<int>("consistent_mass_iterations", 0, Range::in_range(0, 20));
-    analysis.cfl = a->optional<double>(
-        "cfl", 0.5,
-        Range{0.0, analysis.consistent_mass_iterations > 0 ? 0.6 : 1.0, true, false});
+    analysis.consistent_mass_iterations = a->optional<int>("consistent_mass_iterations", 0, Range::in_range(0, 20));
+    analysis.cfl =
+        a->optional<double>("cfl", 0.5, Range{0.0, analysis.consistent_mass_iterations > 0 ? 0.6 : 1.0, true, false});
     if (analysis.type == FluidAnalysisType::steady) {
       analysis.steps = a->optional<int>("steps", 1000, Range::at_least(1));
       analysis.residual_drop = a->maybe<double>("residual_drop");

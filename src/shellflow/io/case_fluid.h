@@ -38,14 +38,7 @@ struct FreeStream {
   Vec3 direction = Vec3::UnitX();  ///< unit vector (normalised when read)
 };
 
-enum class FluidBoundaryType {
-  supersonic_inflow,
-  supersonic_outflow,
-  far_field,
-  slip_wall,
-  no_slip_wall,
-  symmetry
-};
+enum class FluidBoundaryType { supersonic_inflow, supersonic_outflow, far_field, slip_wall, no_slip_wall, symmetry };
 
 /// A scalar field written in a case file as a number or as an expression (expression.h) of
 /// the node's initial coordinates x, y, z [m] and the time t [s].
@@ -94,9 +87,9 @@ struct FluidBoundary {
   FluidBoundaryType type = FluidBoundaryType::slip_wall;
   /// Inflow / far-field state; absent: the free stream.
   std::optional<SpaceTimeState> state;
-  Vec3 wall_velocity = Vec3::Zero();   ///< no-slip walls [m/s] (on a moving mesh: the mesh's)
+  Vec3 wall_velocity = Vec3::Zero();       ///< no-slip walls [m/s] (on a moving mesh: the mesh's)
   std::optional<double> wall_temperature;  ///< no-slip walls [K]; absent: adiabatic
-  SourceLocation where;  ///< the list item `fluid.boundaries[i]`
+  SourceLocation where;                    ///< the list item `fluid.boundaries[i]`
 };
 
 /// A prescribed motion of every fluid node: x = X + d(X, t). The mesh velocity of a step is
@@ -125,12 +118,12 @@ enum class FluidAnalysisType { transient, steady };
 
 struct FluidAnalysis {
   FluidAnalysisType type = FluidAnalysisType::transient;
-  double cfl = 0.5;                    ///< (0, 1] lumped mass, (0, 0.6] consistent
-  int steps = 1000;                    ///< steady: local time steps (at most)
+  double cfl = 0.5;  ///< (0, 1] lumped mass, (0, 0.6] consistent
+  int steps = 1000;  ///< steady: local time steps (at most)
   /// steady: stop once the density rate is below this fraction of its first-step value
   std::optional<double> residual_drop;
-  double q_dif = 0.0;                  ///< artificial viscosity coefficient (paper eq. 28)
-  int consistent_mass_iterations = 0;  ///< 0: lumped mass
+  double q_dif = 0.0;                     ///< artificial viscosity coefficient (paper eq. 28)
+  int consistent_mass_iterations = 0;     ///< 0: lumped mass
   std::optional<RiemannInitial> riemann;  ///< initial state; absent: `initial` or the free stream
   std::optional<SpaceTimeState> initial;  ///< initial state as fields of x, y, z (t = 0)
   SourceLocation where;
@@ -148,7 +141,7 @@ struct FluidSection {
   FreeStream free_stream;
   std::vector<FluidBoundary> boundaries;
   std::optional<FluidMeshMotion> mesh_motion;  ///< absent: the mesh stays
-  std::optional<FluidAnalysis> analysis;  ///< absent: the flow is not solved
+  std::optional<FluidAnalysis> analysis;       ///< absent: the flow is not solved
 };
 
 }  // namespace shellflow::io

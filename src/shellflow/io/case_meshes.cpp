@@ -212,8 +212,8 @@ mesh::Mesh load_one(const MeshSpec& spec, const std::optional<fs::path>& msh_dir
       m = std::move(*cached);
       m.name = spec.key;  // as generate_mesh names them
       m.source = spec.file.string();
-      spdlog::info("{} mesh: from the cache {} ({} unchanged)", spec.key,
-                   (*dir / (spec.key + ".msh.cache")).string(), spec.as_written);
+      spdlog::info("{} mesh: from the cache {} ({} unchanged)", spec.key, (*dir / (spec.key + ".msh.cache")).string(),
+                   spec.as_written);
     } else {
       if (dir) spdlog::info("{} mesh: meshing {} ({})", spec.key, spec.as_written, why);
       m = mesh::generate_mesh(spec.file, options, spec.key);
@@ -229,10 +229,9 @@ mesh::Mesh load_one(const MeshSpec& spec, const std::optional<fs::path>& msh_dir
   }
   const auto& where = spec.where;
   if (m.dim() != expected_dim(spec.key)) {
-    throw_at(where, fmt::format("{} holds a {}-D mesh of {}s; the {} mesh must be made of {}",
-                      spec.as_written, m.dim(),
-                      mesh::element_info(m.cells.type).name, spec.key,
-                      expected_dim(spec.key) == 3 ? "tetrahedra" : "triangles"));
+    throw_at(where, fmt::format("{} holds a {}-D mesh of {}s; the {} mesh must be made of {}", spec.as_written, m.dim(),
+                                mesh::element_info(m.cells.type).name, spec.key,
+                                expected_dim(spec.key) == 3 ? "tetrahedra" : "triangles"));
   }
   if (spec.key == "space" && m.cells.type != mesh::ElementType::tet20) {
     throw_at(where, fmt::format("the space mesh must be made of 20-node (cubic) tetrahedra, {} "
@@ -290,8 +289,13 @@ void check_case_groups(const Case& c) {
 
 MeshReport report_mesh(const mesh::Mesh& m) {
   const auto& info = mesh::element_info(m.cells.type);
-  return {m.name, m.source, m.num_nodes(), m.num_cells(), info.short_name,
-          static_cast<int>(m.cells.type), mesh::summarize_quality(m)};
+  return {m.name,
+          m.source,
+          m.num_nodes(),
+          m.num_cells(),
+          info.short_name,
+          static_cast<int>(m.cells.type),
+          mesh::summarize_quality(m)};
 }
 
 std::string reports_to_json(const std::vector<MeshReport>& reports) {
@@ -309,8 +313,8 @@ std::string reports_to_json(const std::vector<MeshReport>& reports) {
     json += fmt::format(
         "{}\"{}\": {{\"nodes\": {}, \"elements\": {}, \"element_type\": \"{}\", \"gmsh_type\": {}, "
         "\"min_quality\": {:.6g}, \"mean_quality\": {:.6g}, \"inverted\": {}, \"source\": \"{}\"}}",
-        i ? ", " : "", r.key, r.nodes, r.elements, r.element_type, r.gmsh_type, r.quality.min,
-        r.quality.mean, r.quality.inverted, escape(r.source));
+        i ? ", " : "", r.key, r.nodes, r.elements, r.element_type, r.gmsh_type, r.quality.min, r.quality.mean,
+        r.quality.inverted, escape(r.source));
   }
   return json + "}";
 }

@@ -29,8 +29,7 @@ std::vector<std::string> read_group_list(const YamlNode& node, std::string_view 
 
 namespace detail {
 
-MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes,
-                          std::vector<GroupReference>& refs) {
+MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
   MotionSection m;
   m.where = node.location();
   m.method = read_enum(node, "method", kMotionMethods, MotionMethod::space_mesh);

@@ -27,8 +27,8 @@ struct PanelModesSpec {
   double length = 0.0;               ///< [m], > 0
   Vec3 normal = Vec3::UnitY();       ///< unit vector of the deflection
   struct Mode {
-    int wave_number = 1;             ///< m >= 1
-    TimeFunction amplitude;          ///< A_m(t) [m]
+    int wave_number = 1;     ///< m >= 1
+    TimeFunction amplitude;  ///< A_m(t) [m]
   };
   std::vector<Mode> modes;
   SourceLocation where;
@@ -38,9 +38,9 @@ struct MotionSection {
   MotionMethod method = MotionMethod::space_mesh;
   std::vector<std::string> interface_groups;  ///< moving boundary (fluid and space mesh)
   std::vector<std::string> fixed_groups;
-  std::vector<std::string> sliding_groups;    ///< symmetry / slip planes
-  double interface_exponent = 4.0;            ///< e1 of the IDW weights
-  double fixed_exponent = 4.0;                ///< e2
+  std::vector<std::string> sliding_groups;  ///< symmetry / slip planes
+  double interface_exponent = 4.0;          ///< e1 of the IDW weights
+  double fixed_exponent = 4.0;              ///< e2
   MotionWeighting weighting = MotionWeighting::plain;
   /// The boundary motion when no shell solver drives it.
   std::optional<PanelModesSpec> prescribed;

@@ -26,7 +26,8 @@ std::vector<std::string> split(std::string_view line) {
   std::vector<std::string> fields;
   for (std::size_t start = 0;;) {
     const std::size_t comma = line.find(',', start);
-    fields.emplace_back(trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
+    fields.emplace_back(
+        trim(line.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start)));
     if (comma == std::string_view::npos) return fields;
     start = comma + 1;
   }
@@ -88,8 +89,8 @@ Probe::Reference read_probe_reference(const YamlNode& node) {
   bool found = false;
   for (const std::string& c : columns) found = found || c == r.column;
   if (!found) {
-    std::string what = fmt::format("no column '{}' in {} (its first column, '{}', is the abscissa)",
-                                   r.column, r.file.filename().string(), header.front());
+    std::string what = fmt::format("no column '{}' in {} (its first column, '{}', is the abscissa)", r.column,
+                                   r.file.filename().string(), header.front());
     if (auto suggestion = closest_match(r.column, columns)) what += fmt::format("; did you mean '{}'?", *suggestion);
     what += fmt::format("; columns: {}", fmt::join(columns, ", "));
     node.fail("column", what);

@@ -35,8 +35,7 @@ constexpr std::array<ProbeQuantity, 14> kProbeQuantities = {{
     {"space", "velocity", true},
 }};
 
-Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
-                 std::vector<GroupReference>& refs) {
+Probe read_probe(const YamlNode& item, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
   item.expect_map();
   Probe p;
   p.where = item.location();
@@ -74,18 +73,15 @@ Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
     item.fail("field", what);
   }
   if (!meshes.find(p.mesh)) {
-    item.fail("field",
-              fmt::format("the case has no {} mesh; expected 'meshes.{}'", p.mesh, p.mesh));
+    item.fail("field", fmt::format("the case has no {} mesh; expected 'meshes.{}'", p.mesh, p.mesh));
   }
 
   if (quantity->is_vector) {
-    p.component = detail::read_enum(item, "component", detail::kVectorProbeComponents,
-                                    ProbeComponent::magnitude);
+    p.component = detail::read_enum(item, "component", detail::kVectorProbeComponents, ProbeComponent::magnitude);
   } else {
     p.component = ProbeComponent::scalar;
     if (item.has("component")) {
-      item.fail("component",
-                fmt::format("applies only to vector fields; '{}' is a scalar", p.field));
+      item.fail("component", fmt::format("applies only to vector fields; '{}' is a scalar", p.field));
     }
   }
 
@@ -116,8 +112,7 @@ Probe read_probe(const YamlNode& item, const MeshesSection& meshes,
 
 namespace detail {
 
-std::vector<Probe> read_probes(const YamlNode& root, const MeshesSection& meshes,
-                               std::vector<GroupReference>& refs) {
+std::vector<Probe> read_probes(const YamlNode& root, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
   std::vector<Probe> probes;
   std::map<std::string, int> first_line;  // name -> line where it was first used
   for (const YamlNode& item : root.optional_list("probes")) {

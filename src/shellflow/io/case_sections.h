@@ -58,8 +58,7 @@ MotionSection read_motion(const YamlNode& node, const MeshesSection& meshes, std
 TimeSection read_time(const YamlNode& node);
 
 /// The `coupling` section.
-CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
-                              std::vector<GroupReference>& refs);
+CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes, std::vector<GroupReference>& refs);
 /// What a coupled case needs of its other sections (a dynamic shell analysis, a flow model or
 /// a mesh motion, ...). Throws InputError at the offending section.
 void check_coupled_case(const Case& c);

@@ -38,8 +38,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
   shell.thickness = node.required<double>("thickness", Range::positive(), "m");
 
   const YamlNode material = node.child("material");
-  shell.material.young_modulus =
-      material.required<double>("young_modulus", Range::positive(), "Pa");
+  shell.material.young_modulus = material.required<double>("young_modulus", Range::positive(), "Pa");
   shell.material.poisson_ratio = material.required<double>("poisson_ratio", Range::open(-1, 0.5));
   shell.material.density = material.required<double>("density", Range::non_negative(), "kg/m^3");
   material.finish();
@@ -66,8 +65,9 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     }
     if (s.type == SupportType::prescribed) {
       if (!item.has("displacement") && !item.has("rotation_axis")) {
-        item.fail("a prescribed support needs 'displacement' [x, y, z] and/or 'rotation_axis' "
-                  "with 'rotation_angle'");
+        item.fail(
+            "a prescribed support needs 'displacement' [x, y, z] and/or 'rotation_axis' "
+            "with 'rotation_angle'");
       }
       if (item.has("displacement")) s.displacement = item.vec3("displacement");
       if (auto f = item.optional_child("history")) s.displacement_history = read_time_function(*f);
@@ -108,7 +108,9 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
         if (item.has("group")) load.group = read_group(item, "shell", refs);
         load.value = item.required<double>("pressure");
         break;
-      case ShellLoadType::gravity: load.vector = item.vec3("acceleration"); break;
+      case ShellLoadType::gravity:
+        load.vector = item.vec3("acceleration");
+        break;
       case ShellLoadType::surface:
         if (item.has("group")) load.group = read_group(item, "shell", refs);
         load.vector = item.vec3("traction");
@@ -141,8 +143,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     }
     if (analysis.type == ShellAnalysisType::static_load) {
       analysis.steps = a->optional<int>("steps", 10, Range::at_least(1));
-      const std::string control =
-          a->choice("control", {"load", "displacement", "arc_length"}, "load");
+      const std::string control = a->choice("control", {"load", "displacement", "arc_length"}, "load");
       if (control == "displacement") {
         analysis.control = PathControl::displacement;
         const YamlNode d = a->child("controlled");
@@ -157,8 +158,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
         analysis.final_displacement = a->required<double>("final_value", Range::any(), "m");
       } else if (control == "arc_length") {
         analysis.control = PathControl::arc_length;
-        analysis.initial_load_increment =
-            a->optional<double>("initial_load_increment", 0.1, Range::positive());
+        analysis.initial_load_increment = a->optional<double>("initial_load_increment", 0.1, Range::positive());
         analysis.final_load_factor = a->optional<double>("final_load_factor", 1.0, Range::positive());
       }
       for (const Support& support : shell.supports) {
@@ -174,16 +174,16 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
       }
       if (auto f = a->optional_child("load_function")) analysis.load_function = read_time_function(*f);
       analysis.mass_damping = a->optional<double>("mass_damping", 0.0, Range::non_negative(), "1/s");
-      analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint"
-                            ? TimeScheme::midpoint
-                            : TimeScheme::newmark;
+      analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint" ? TimeScheme::midpoint
+                                                                                              : TimeScheme::newmark;
     }
     if (analysis.type != ShellAnalysisType::modal)
       analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
     if (analysis.modified_newton && analysis.type == ShellAnalysisType::static_load &&
         analysis.control != PathControl::load) {
-      a->fail("newton", "'modified' applies to load control and dynamics; displacement control "
-                        "and arc length use full Newton");
+      a->fail("newton",
+              "'modified' applies to load control and dynamics; displacement control "
+              "and arc length use full Newton");
     }
     a->finish();
     shell.analysis = std::move(analysis);

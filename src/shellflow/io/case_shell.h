@@ -33,11 +33,11 @@ struct Support {
   bool clamp_director = true;     ///< `sliding` only: director fixed (clamped-sliding)
   Vec3 normal = Vec3::Zero();     ///< `symmetry` only: unit normal of the symmetry plane
   /// `prescribed` only: x = X + f(t) d and, with a rotation axis, G = R(g(t)) V.
-  Vec3 displacement = Vec3::Zero();                 ///< d [m]
-  std::optional<TimeFunction> displacement_history;  ///< f; absent: the analysis' load factor
-  Vec3 rotation_axis = Vec3::Zero();                ///< unit axis, or zero (director free)
+  Vec3 displacement = Vec3::Zero();                           ///< d [m]
+  std::optional<TimeFunction> displacement_history;           ///< f; absent: the analysis' load factor
+  Vec3 rotation_axis = Vec3::Zero();                          ///< unit axis, or zero (director free)
   TimeFunction rotation_angle = TimeFunction::constant(0.0);  ///< g [rad]
-  SourceLocation where;           ///< the list item `shell.supports[i]`
+  SourceLocation where;                                       ///< the list item `shell.supports[i]`
 };
 
 enum class ShellLoadType { line, point, edge_couple, pressure, gravity, surface };
@@ -45,13 +45,13 @@ enum class ShellLoadType { line, point, edge_couple, pressure, gravity, surface 
 /// A load at load factor 1 (static) or scaled by the analysis' load function (dynamic).
 struct ShellLoad {
   ShellLoadType type = ShellLoadType::line;
-  std::string group;             ///< line, edge_couple: a line group; pressure: a surface
-                                 ///< group or empty (the whole shell)
-  Vec3 vector = Vec3::Zero();    ///< line: force per length [N/m]; point: force [N];
-                                 ///< gravity: acceleration [m/s^2]; edge_couple: axis (unit);
-                                 ///< surface: traction per reference area [Pa]
-  double value = 0.0;            ///< edge_couple: moment per length [N]; pressure [Pa]
-  Vec3 point = Vec3::Zero();     ///< point: where (the nearest shell node takes the force)
+  std::string group;           ///< line, edge_couple: a line group; pressure: a surface
+                               ///< group or empty (the whole shell)
+  Vec3 vector = Vec3::Zero();  ///< line: force per length [N/m]; point: force [N];
+                               ///< gravity: acceleration [m/s^2]; edge_couple: axis (unit);
+                               ///< surface: traction per reference area [Pa]
+  double value = 0.0;          ///< edge_couple: moment per length [N]; pressure [Pa]
+  Vec3 point = Vec3::Zero();   ///< point: where (the nearest shell node takes the force)
   SourceLocation where;
 };
 
@@ -67,21 +67,21 @@ enum class TimeScheme { newmark, midpoint };
 
 struct ShellAnalysis {
   ShellAnalysisType type = ShellAnalysisType::static_load;
-  int steps = 10;                ///< static: increments (arc length: at most this many)
+  int steps = 10;  ///< static: increments (arc length: at most this many)
   PathControl control = PathControl::load;
   /// control: displacement: the controlled component of a node or of a group's mean.
   std::string controlled_group;
   Index controlled_node = -1;
-  int controlled_component = 2;  ///< 0, 1, 2 = x, y, z
-  double final_displacement = 0.0;       ///< [m] displacement control: value at the last step
-  double initial_load_increment = 0.1;   ///< arc length: first load-factor increment
-  double final_load_factor = 1.0;        ///< arc length: stop once reached
+  int controlled_component = 2;                              ///< 0, 1, 2 = x, y, z
+  double final_displacement = 0.0;                           ///< [m] displacement control: value at the last step
+  double initial_load_increment = 0.1;                       ///< arc length: first load-factor increment
+  double final_load_factor = 1.0;                            ///< arc length: stop once reached
   TimeFunction load_function = TimeFunction::constant(1.0);  ///< dynamic: load factor(t)
-  double mass_damping = 0.0;     ///< dynamic: c_m in C = c_m M [1/s]
-  TimeScheme scheme = TimeScheme::newmark;  ///< dynamic
-  bool modified_newton = false;  ///< load control, dynamic: keep the iteration matrix (NewtonOptions::modified)
-  int modes = 10;                ///< modal: number of natural frequencies and modes (1..200)
-  double modal_tolerance = 1e-8; ///< modal: ModalOptions::tolerance (relative eigenvalue change)
+  double mass_damping = 0.0;                                 ///< dynamic: c_m in C = c_m M [1/s]
+  TimeScheme scheme = TimeScheme::newmark;                   ///< dynamic
+  bool modified_newton = false;    ///< load control, dynamic: keep the iteration matrix (NewtonOptions::modified)
+  int modes = 10;                  ///< modal: number of natural frequencies and modes (1..200)
+  double modal_tolerance = 1e-8;   ///< modal: ModalOptions::tolerance (relative eigenvalue change)
   int modal_max_iterations = 300;  ///< modal: ModalOptions::max_iterations
   SourceLocation where;
 };

@@ -1,9 +1,8 @@
 // The `study` section of a case file: a parameter study of a coupled case (`shellflow study`).
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <cmath>
-
-#include <yaml-cpp/yaml.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/io/case_sections.h"

@@ -28,8 +28,7 @@ MeshSpec read_mesh(const YamlNode& node, std::string_view key, int default_order
   spec.as_written = node.required<std::string>(file_key);
   const std::string extension = fs::path(spec.as_written).extension().string();
   if (extension != fmt::format(".{}", file_key)) {
-    node.fail(file_key,
-              fmt::format("expected a Gmsh .{} file, got '{}'", file_key, spec.as_written));
+    node.fail(file_key, fmt::format("expected a Gmsh .{} file, got '{}'", file_key, spec.as_written));
   }
   spec.file = node.input_file(file_key);
   if (geo) {
@@ -58,8 +57,7 @@ MeshesSection read_meshes(const YamlNode& root) {
   if (auto n = node.optional_child("space")) meshes.space = read_mesh(*n, "space", 3);
   if (auto n = node.optional_child("shell")) meshes.shell = read_mesh(*n, "shell", 3);
   if (!meshes.fluid && !meshes.space && !meshes.shell) {
-    node.fail_missing({"fluid", "space", "shell"},
-                      "no mesh given; expected at least one of 'fluid', 'space', 'shell'");
+    node.fail_missing({"fluid", "space", "shell"}, "no mesh given; expected at least one of 'fluid', 'space', 'shell'");
   }
   node.finish();
   return meshes;
@@ -78,10 +76,11 @@ TimeFunction read_time_function(const YamlNode& node) {
   node.expect_map();
   TimeFunction f = TimeFunction::constant(0.0);
   switch (read_enum(node, "type", kTimeFunctionTypes)) {
-    case TimeFunctionType::constant: f = TimeFunction::constant(node.required<double>("value")); break;
+    case TimeFunctionType::constant:
+      f = TimeFunction::constant(node.required<double>("value"));
+      break;
     case TimeFunctionType::ramp:
-      f = TimeFunction::ramp(node.required<double>("value"),
-                             node.required<double>("duration", Range::positive(), "s"));
+      f = TimeFunction::ramp(node.required<double>("value"), node.required<double>("duration", Range::positive(), "s"));
       break;
     case TimeFunctionType::sine:
       f = TimeFunction::sine(node.required<double>("value"),
@@ -94,7 +93,8 @@ TimeFunction read_time_function(const YamlNode& node) {
       for (const YamlNode& v : node.list("values")) values.push_back(v.as<double>());
       if (times.empty() || times.size() != values.size()) {
         node.fail("values", fmt::format("expected as many values as times (at least one), got {} "
-                                        "times and {} values", times.size(), values.size()));
+                                        "times and {} values",
+                                        times.size(), values.size()));
       }
       for (std::size_t i = 1; i < times.size(); ++i) {
         if (!(times[i] > times[i - 1])) node.fail("times", "must be strictly increasing");
@@ -103,12 +103,10 @@ TimeFunction read_time_function(const YamlNode& node) {
       break;
     }
     case TimeFunctionType::step:
-      f = TimeFunction::step(node.required<double>("value"),
-                             node.required<double>("time", Range::any(), "s"));
+      f = TimeFunction::step(node.required<double>("value"), node.required<double>("time", Range::any(), "s"));
       break;
     case TimeFunctionType::smooth_step:
-      f = TimeFunction::smooth_step(node.required<double>("value"),
-                                    node.required<double>("time", Range::any(), "s"),
+      f = TimeFunction::smooth_step(node.required<double>("value"), node.required<double>("time", Range::any(), "s"),
                                     node.required<double>("duration", Range::positive(), "s"));
       break;
     case TimeFunctionType::expression: {

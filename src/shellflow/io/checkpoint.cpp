@@ -1,7 +1,9 @@
 #include "shellflow/io/checkpoint.h"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <unistd.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -10,9 +12,6 @@
 #include <iterator>
 #include <map>
 #include <optional>
-
-#include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/mesh/mesh.h"
@@ -159,8 +158,8 @@ std::uint64_t write_checkpoint(const fs::path& dir, const CheckpointHeader& head
   std::error_code ec;
   if (!ok) {
     fs::remove(tmp, ec);
-    throw Error(fmt::format("{}: cannot write the checkpoint ({}); the previous checkpoints are kept",
-                            tmp.string(), std::strerror(saved_errno)));
+    throw Error(fmt::format("{}: cannot write the checkpoint ({}); the previous checkpoints are kept", tmp.string(),
+                            std::strerror(saved_errno)));
   }
   fs::rename(tmp, file, ec);
   if (ec) {
@@ -191,9 +190,10 @@ Checkpoint read_checkpoint(const fs::path& file) {
   std::error_code ec;
   const auto status = fs::status(file, ec);
   if (!fs::exists(status))
-    throw Error(fmt::format("{}: no such checkpoint; give an output directory or one of its "
-                            "checkpoint_NNNNNN.ckpt files",
-                            file.string()));
+    throw Error(
+        fmt::format("{}: no such checkpoint; give an output directory or one of its "
+                    "checkpoint_NNNNNN.ckpt files",
+                    file.string()));
   if (!fs::is_regular_file(status)) throw Error(fmt::format("{}: not a checkpoint file", file.string()));
   std::ifstream in(file, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -202,20 +202,21 @@ Checkpoint read_checkpoint(const fs::path& file) {
   if (bytes.size() < kMagic.size() || std::string_view(bytes).substr(0, kMagic.size()) != kMagic)
     throw Error(fmt::format("{}: not a shellflow checkpoint (no 'shellflow checkpoint' signature)", name));
   if (bytes.size() < kPrefix)
-    throw Error(fmt::format("{}: truncated ({} bytes, not even the header); restart from an earlier checkpoint",
-                            name, bytes.size()));
+    throw Error(fmt::format("{}: truncated ({} bytes, not even the header); restart from an earlier checkpoint", name,
+                            bytes.size()));
   ArchiveReader prefix(std::string_view(bytes).substr(kMagic.size(), kPrefix - kMagic.size()), name);
   const auto format = prefix.get<std::uint32_t>();
   if (format != kCheckpointFormat)
-    throw Error(fmt::format("{}: checkpoint format {}, this shellflow reads format {}; continue it with the "
-                            "shellflow that wrote it",
-                            name, format, kCheckpointFormat));
+    throw Error(
+        fmt::format("{}: checkpoint format {}, this shellflow reads format {}; continue it with the "
+                    "shellflow that wrote it",
+                    name, format, kCheckpointFormat));
   const auto header_bytes = prefix.get<std::uint64_t>(), payload_bytes = prefix.get<std::uint64_t>();
   const auto sum = prefix.get<std::uint64_t>();
   const std::uint64_t body = bytes.size() - kPrefix;
   if (header_bytes > body || payload_bytes > body - header_bytes)
-    throw Error(fmt::format("{}: truncated ({} bytes of {}); restart from an earlier checkpoint", name,
-                            bytes.size(), kPrefix + header_bytes + payload_bytes));
+    throw Error(fmt::format("{}: truncated ({} bytes of {}); restart from an earlier checkpoint", name, bytes.size(),
+                            kPrefix + header_bytes + payload_bytes));
   if (header_bytes + payload_bytes != body)
     throw Error(fmt::format("{}: {} bytes after the end of the checkpoint; the file is damaged", name,
                             body - header_bytes - payload_bytes));
@@ -223,8 +224,7 @@ Checkpoint read_checkpoint(const fs::path& file) {
   const std::string_view head = rest.substr(0, header_bytes), tail = rest.substr(header_bytes);
   if (checksum64(std::as_bytes(std::span(tail.data(), tail.size())),
                  checksum64(std::as_bytes(std::span(head.data(), head.size())))) != sum)
-    throw Error(fmt::format("{}: checksum mismatch, the file is damaged; restart from an earlier checkpoint",
-                            name));
+    throw Error(fmt::format("{}: checksum mismatch, the file is damaged; restart from an earlier checkpoint", name));
   Checkpoint c;
   c.file = file;
   ArchiveReader header(rest.substr(0, header_bytes), name);
@@ -238,9 +238,10 @@ fs::path find_checkpoint(const fs::path& path) {
   if (!fs::is_directory(path, ec)) return path;  // read_checkpoint says what is wrong with it
   const auto all = checkpoints_in(path);
   if (all.empty())
-    throw Error(fmt::format("{}: no checkpoint_NNNNNN.ckpt in this directory; a run writes them with "
-                            "output.checkpoint_every, --stop-after, --stop-at-wall or on Ctrl-C",
-                            path.string()));
+    throw Error(
+        fmt::format("{}: no checkpoint_NNNNNN.ckpt in this directory; a run writes them with "
+                    "output.checkpoint_every, --stop-after, --stop-at-wall or on Ctrl-C",
+                    path.string()));
   return all.rbegin()->second;
 }
 
@@ -258,14 +259,16 @@ std::string checkpoint_mismatch(const Checkpoint& c, const CheckpointHeader& now
   const std::string name = c.file.string();
   const CheckpointHeader& then = c.header;
   if (then.program_version != now.program_version)
-    return fmt::format("{}: written by shellflow {}, this is shellflow {}; continue it with the shellflow that "
-                       "wrote it",
-                       name, then.program_version, now.program_version);
+    return fmt::format(
+        "{}: written by shellflow {}, this is shellflow {}; continue it with the shellflow that "
+        "wrote it",
+        name, then.program_version, now.program_version);
   if (then.case_name != now.case_name)
     return fmt::format("{}: a checkpoint of case '{}', not of '{}'", name, then.case_name, now.case_name);
   std::vector<std::string> changed;
   for (const auto& d : then.digests) {
-    const auto it = std::find_if(now.digests.begin(), now.digests.end(), [&](const auto& e) { return e.name == d.name; });
+    const auto it =
+        std::find_if(now.digests.begin(), now.digests.end(), [&](const auto& e) { return e.name == d.name; });
     if (it == now.digests.end())
       changed.push_back(d.name + " (removed)");
     else if (it->digest != d.digest)
@@ -277,10 +280,11 @@ std::string checkpoint_mismatch(const Checkpoint& c, const CheckpointHeader& now
   if (!changed.empty()) {
     std::string list;
     for (const auto& s : changed) list += (list.empty() ? "" : ", ") + s;
-    return fmt::format("{}: the case changed since the checkpoint was written (sections: {}); restore them, or "
-                       "start a new run without --restart (time.end, output.checkpoint_every and study may "
-                       "change)",
-                       name, list);
+    return fmt::format(
+        "{}: the case changed since the checkpoint was written (sections: {}); restore them, or "
+        "start a new run without --restart (time.end, output.checkpoint_every and study may "
+        "change)",
+        name, list);
   }
   return {};
 }

@@ -57,7 +57,7 @@ struct CheckpointHeader {
   std::string case_name;
   long step = 0;
   double time = 0.0;
-  int threads = 1;  ///< OpenMP threads of the run
+  int threads = 1;   ///< OpenMP threads of the run
   std::string simd;  ///< the element pass's instruction set (fluid::SimdPath)
   std::vector<SectionDigest> digests;
 };

@@ -4,9 +4,8 @@
 
 namespace shellflow::io {
 
-void write_mesh_vtu(const std::filesystem::path& path, const mesh::Mesh& m,
-                    std::vector<VtuField> point_fields, std::optional<double> time,
-                    std::span<const Vec3> positions) {
+void write_mesh_vtu(const std::filesystem::path& path, const mesh::Mesh& m, std::vector<VtuField> point_fields,
+                    std::optional<double> time, std::span<const Vec3> positions) {
   const std::span<const Vec3> x = positions.empty() ? std::span<const Vec3>(m.nodes) : positions;
   const std::vector<double> quality = mesh::cell_qualities(m, x);
   VtuGrid grid;

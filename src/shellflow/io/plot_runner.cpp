@@ -61,8 +61,8 @@ bool PlotRunner::run() {
   const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
   if (rc != 0) {
-    spdlog::warn("plot failed ({}): cannot start {} ({}); the numerical output is complete", names,
-                 python_.string(), std::strerror(rc));
+    spdlog::warn("plot failed ({}): cannot start {} ({}); the numerical output is complete", names, python_.string(),
+                 std::strerror(rc));
     return false;
   }
   int status = 0;
@@ -70,13 +70,14 @@ bool PlotRunner::run() {
   while ((waited = waitpid(pid, &status, 0)) < 0 && errno == EINTR) {
   }
   if (waited < 0 || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    const std::string how = waited < 0                ? fmt::format("cannot wait for it: {}", std::strerror(errno))
-                            : WIFEXITED(status)       ? fmt::format("exited with status {}", WEXITSTATUS(status))
-                            : WIFSIGNALED(status)     ? fmt::format("killed by signal {}", WTERMSIG(status))
-                                                      : std::string("stopped");
-    spdlog::warn("plot failed ({}: plot_run.py {}; its messages above name the job); the numerical output is "
-                 "complete",
-                 names, how);
+    const std::string how = waited < 0            ? fmt::format("cannot wait for it: {}", std::strerror(errno))
+                            : WIFEXITED(status)   ? fmt::format("exited with status {}", WEXITSTATUS(status))
+                            : WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
+                                                  : std::string("stopped");
+    spdlog::warn(
+        "plot failed ({}: plot_run.py {}; its messages above name the job); the numerical output is "
+        "complete",
+        names, how);
     return false;
   }
   return true;

@@ -1,12 +1,12 @@
 #include "shellflow/io/probe_writer.h"
 
+#include <fmt/format.h>
+
 #include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <set>
 #include <system_error>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 
@@ -57,8 +57,7 @@ ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> na
           path_.string(), i + 1, n, why);
     }
     if (!seen.insert(n).second) {
-      throw_input_error("{}: probe name '{}' is given twice; give each probe its own name",
-                        path_.string(), n);
+      throw_input_error("{}: probe name '{}' is given twice; give each probe its own name", path_.string(), n);
     }
   }
 
@@ -67,14 +66,13 @@ ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> na
     std::error_code ec;
     std::filesystem::create_directories(path_.parent_path(), ec);
     if (ec) {
-      throw Error(fmt::format("cannot create directory {} for {}: {}",
-                              path_.parent_path().string(), path_.string(), ec.message()));
+      throw Error(fmt::format("cannot create directory {} for {}: {}", path_.parent_path().string(), path_.string(),
+                              ec.message()));
     }
   }
   out_.open(path_, std::ios::out | std::ios::trunc);
   if (!out_) {
-    throw Error(
-        fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
+    throw Error(fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
   }
   const std::string header = header_line(names_);
   out_ << header << std::flush;
@@ -96,9 +94,10 @@ void ProbeWriter::restore(ArchiveReader& in) {
     throw Error(fmt::format("{}: cannot continue it ({}); the restart needs the output of the run it continues",
                             path_.string(), ec.message()));
   if (size < bytes)
-    throw Error(fmt::format("{}: {} bytes, fewer than the {} at the checkpoint; it was changed after the "
-                            "checkpoint, so the run cannot be continued bit for bit",
-                            path_.string(), size, bytes));
+    throw Error(
+        fmt::format("{}: {} bytes, fewer than the {} at the checkpoint; it was changed after the "
+                    "checkpoint, so the run cannot be continued bit for bit",
+                    path_.string(), size, bytes));
   const std::string header = header_line(names_);
   std::string first(header.size(), '\0');
   std::ifstream(path_, std::ios::binary).read(first.data(), std::streamsize(first.size()));
@@ -108,16 +107,15 @@ void ProbeWriter::restore(ArchiveReader& in) {
   std::filesystem::resize_file(path_, bytes, ec);
   if (ec) throw Error(fmt::format("{}: cannot cut it back to the checkpoint ({})", path_.string(), ec.message()));
   out_.open(path_, std::ios::out | std::ios::app);
-  if (!out_)
-    throw Error(fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
+  if (!out_) throw Error(fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
   bytes_ = bytes;
   rows_ = rows;
 }
 
 void ProbeWriter::append(double time, std::span<const double> values) {
   if (values.size() != names_.size()) {
-    throw Error(fmt::format("{}: row at time {} has {} values for {} probes", path_.string(),
-                            time, values.size(), names_.size()));
+    throw Error(fmt::format("{}: row at time {} has {} values for {} probes", path_.string(), time, values.size(),
+                            names_.size()));
   }
   if (!std::isfinite(time)) {
     throw Error(fmt::format("{}: time {} is not finite", path_.string(), time));
@@ -131,8 +129,7 @@ void ProbeWriter::append(double time, std::span<const double> values) {
   if (!out_.is_open()) throw Error(fmt::format("{}: not open (a resumed writer before restore)", path_.string()));
   out_ << row << std::flush;  // one write per row: a crash leaves whole rows
   if (!out_) {
-    throw Error(fmt::format("cannot write {} (disk full?): {}", path_.string(),
-                            std::strerror(errno)));
+    throw Error(fmt::format("cannot write {} (disk full?): {}", path_.string(), std::strerror(errno)));
   }
   ++rows_;
   bytes_ += row.size();

@@ -37,15 +37,19 @@ double mesh_size(const mesh::Mesh& m) {
 
 double component_of(const double* value, int components, ProbeComponent c) {
   switch (c) {
-    case ProbeComponent::x: return value[0];
-    case ProbeComponent::y: return value[1];
-    case ProbeComponent::z: return value[2];
+    case ProbeComponent::x:
+      return value[0];
+    case ProbeComponent::y:
+      return value[1];
+    case ProbeComponent::z:
+      return value[2];
     case ProbeComponent::magnitude: {
       double s = 0;
       for (int k = 0; k < components; ++k) s += value[k] * value[k];
       return std::sqrt(s);
     }
-    case ProbeComponent::scalar: return value[0];
+    case ProbeComponent::scalar:
+      return value[0];
   }
   return 0.0;
 }
@@ -83,8 +87,8 @@ class Locators {
 
 }  // namespace
 
-ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
-                   const std::filesystem::path& csv_path, OutputMode mode)
+ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes, const std::filesystem::path& csv_path,
+                   OutputMode mode)
     : writer_(csv_path, probe_names(probes), mode) {
   Locators locators;
   for (const Probe& p : probes) {
@@ -94,8 +98,8 @@ ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
     switch (p.location) {
       case ProbeLocation::node:
         if (p.node < 0 || p.node >= m->num_nodes()) {
-          throw_at(p.where, fmt::format("node {} does not exist: the {} mesh has nodes 0 to {}",
-                                        p.node, p.mesh, m->num_nodes() - 1));
+          throw_at(p.where, fmt::format("node {} does not exist: the {} mesh has nodes 0 to {}", p.node, p.mesh,
+                                        m->num_nodes() - 1));
         }
         located.nodes = {p.node};
         located.weights = {1.0};
@@ -120,8 +124,7 @@ ProbeSet::ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
           if (hit.distance > 1e-6 * surface.size) {
             throw_at(p.where, fmt::format("point ({}, {}, {}) is {:.3g} m away from the {} "
                                           "surface; put it on the surface",
-                                          p.point.x(), p.point.y(), p.point.z(), hit.distance,
-                                          p.mesh));
+                                          p.point.x(), p.point.y(), p.point.z(), hit.distance, p.mesh));
           }
           const auto cell = m->cells.element(hit.element);
           located.nodes.assign(cell.begin(), cell.end());

@@ -32,8 +32,8 @@ class ProbeSet {
   /// Locates every probe in its mesh once: a point probe in a tetrahedral mesh must lie in
   /// a cell; in a shell mesh it is moved to the closest point of the surface, which must lie
   /// within 1e-6 of the mesh size. Throws InputError at the probe's line otherwise.
-  ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes,
-           const std::filesystem::path& csv_path, OutputMode mode = OutputMode::create);
+  ProbeSet(const std::vector<Probe>& probes, const CaseMeshes& meshes, const std::filesystem::path& csv_path,
+           OutputMode mode = OutputMode::create);
   ~ProbeSet();
 
   /// Appends one CSV row and returns its values. Every probed field must be among `fields`

@@ -1,10 +1,10 @@
 #include "shellflow/io/pvd_writer.h"
 
+#include <fmt/format.h>
+
 #include <bit>
 #include <cmath>
 #include <ostream>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/io/vtu_writer.h"
@@ -12,11 +12,11 @@
 namespace shellflow::io {
 
 PvdWriter::PvdWriter(std::filesystem::path dir, std::string basename, OutputMode mode) {
-  if (basename.empty() || basename.find('/') != std::string::npos ||
-      basename.find('\\') != std::string::npos) {
-    throw_input_error("output name '{}' must be a non-empty file name without '/' (in "
-                      "directory {})",
-                      basename, dir.string());
+  if (basename.empty() || basename.find('/') != std::string::npos || basename.find('\\') != std::string::npos) {
+    throw_input_error(
+        "output name '{}' must be a non-empty file name without '/' (in "
+        "directory {})",
+        basename, dir.string());
   }
   path_ = std::move(dir) / (std::move(basename) + ".pvd");
   if (mode == OutputMode::create) write();
@@ -46,16 +46,14 @@ void PvdWriter::restore(ArchiveReader& in) {
 
 void PvdWriter::add(double time, const std::string& vtu_relative_path, int part) {
   if (!std::isfinite(time)) {
-    throw Error(fmt::format("{}: time {} of dataset '{}' is not finite", path_.string(), time,
-                            vtu_relative_path));
+    throw Error(fmt::format("{}: time {} of dataset '{}' is not finite", path_.string(), time, vtu_relative_path));
   }
   if (part < 0) {
-    throw Error(fmt::format("{}: dataset '{}' has negative part {}", path_.string(),
-                            vtu_relative_path, part));
+    throw Error(fmt::format("{}: dataset '{}' has negative part {}", path_.string(), vtu_relative_path, part));
   }
   if (vtu_relative_path.empty() || std::filesystem::path(vtu_relative_path).is_absolute()) {
-    throw Error(fmt::format("{}: dataset path '{}' must be relative to the .pvd's directory",
-                            path_.string(), vtu_relative_path));
+    throw Error(fmt::format("{}: dataset path '{}' must be relative to the .pvd's directory", path_.string(),
+                            vtu_relative_path));
   }
   bool replaced = false;
   for (auto& e : entries_) {
@@ -73,13 +71,11 @@ void PvdWriter::write() const {
     std::string xml;
     xml += "<?xml version=\"1.0\"?>\n";
     xml += fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n",
-                       std::endian::native == std::endian::little ? "LittleEndian"
-                                                                   : "BigEndian");
+                       std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian");
     xml += "  <Collection>\n";
     for (const auto& e : entries_) {
-      xml += fmt::format(
-          "    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"{}\" file=\"{}\"/>\n", e.time,
-          e.part, xml_escape(e.file));
+      xml += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"{}\" file=\"{}\"/>\n", e.time, e.part,
+                         xml_escape(e.file));
     }
     xml += "  </Collection>\n";
     xml += "</VTKFile>\n";

@@ -1,5 +1,7 @@
 #include "shellflow/io/vtu_writer.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <cerrno>
@@ -10,8 +12,6 @@
 #include <ostream>
 #include <set>
 #include <system_error>
-
-#include <fmt/format.h>
 
 #include "shellflow/core/error.h"
 
@@ -35,7 +35,7 @@ struct CellKind {
   int gmsh_type;
   int vtk_type;
   int nodes;
-  bool is_line;  // Gmsh lines live on [-1, 1], VTK lines on [0, 1]
+  bool is_line;                  // Gmsh lines live on [-1, 1], VTK lines on [0, 1]
   std::vector<double> gmsh_ref;  // 3 per node
   std::vector<double> vtk_ref;   // 3 per node
   std::vector<int> perm;         // vtk node i = gmsh node perm[i]
@@ -102,8 +102,7 @@ std::vector<CellKind> make_cell_kinds() {
   for (auto& c : k) {
     const auto n = static_cast<std::size_t>(c.nodes);
     if (c.gmsh_ref.size() != 3 * n || c.vtk_ref.size() != 3 * n) {
-      throw Error(fmt::format("internal: reference table of Gmsh type {} has the wrong size",
-                              c.gmsh_type));
+      throw Error(fmt::format("internal: reference table of Gmsh type {} has the wrong size", c.gmsh_type));
     }
     std::vector<bool> used(n, false);
     c.perm.assign(n, -1);
@@ -122,8 +121,7 @@ std::vector<CellKind> make_cell_kinds() {
         }
       }
       if (c.perm[i] < 0) {
-        throw Error(fmt::format("internal: VTK node {} of Gmsh type {} matches no Gmsh node",
-                                i, c.gmsh_type));
+        throw Error(fmt::format("internal: VTK node {} of Gmsh type {} matches no Gmsh node", i, c.gmsh_type));
       }
     }
   }
@@ -159,8 +157,7 @@ struct Blob {
 
 std::string double_text(double x) { return fmt::format("{:.17g}", x); }
 
-void check_fields(const std::string& file, const std::vector<VtuField>& fields,
-                  std::size_t count, const char* where) {
+void check_fields(const std::string& file, const std::vector<VtuField>& fields, std::size_t count, const char* where) {
   std::set<std::string> names;
   for (const auto& f : fields) {
     if (f.name.empty()) {
@@ -170,15 +167,15 @@ void check_fields(const std::string& file, const std::vector<VtuField>& fields,
       throw Error(fmt::format("{}: two {} fields are named '{}'", file, where, f.name));
     }
     if (f.components < 1) {
-      throw Error(fmt::format("{}: {} field '{}' has {} components (need at least 1)", file,
-                              where, f.name, f.components));
+      throw Error(
+          fmt::format("{}: {} field '{}' has {} components (need at least 1)", file, where, f.name, f.components));
     }
     const std::size_t expected = count * static_cast<std::size_t>(f.components);
     if (f.values.size() != expected) {
-      throw Error(fmt::format("{}: {} field '{}' has {} values, expected {} ({} {}s x {} "
-                              "components)",
-                              file, where, f.name, f.values.size(), expected, count, where,
-                              f.components));
+      throw Error(
+          fmt::format("{}: {} field '{}' has {} values, expected {} ({} {}s x {} "
+                      "components)",
+                      file, where, f.name, f.values.size(), expected, count, where, f.components));
     }
   }
 }
@@ -191,9 +188,7 @@ bool is_vtu_supported_type(int gmsh_type) { return find_kind(gmsh_type) != nullp
 int gmsh_nodes_per_cell(int gmsh_type) { return kind(gmsh_type).nodes; }
 int vtk_cell_type(int gmsh_type) { return kind(gmsh_type).vtk_type; }
 std::span<const int> gmsh_to_vtk_permutation(int gmsh_type) { return kind(gmsh_type).perm; }
-std::span<const double> gmsh_reference_nodes(int gmsh_type) {
-  return kind(gmsh_type).gmsh_ref;
-}
+std::span<const double> gmsh_reference_nodes(int gmsh_type) { return kind(gmsh_type).gmsh_ref; }
 std::span<const double> vtk_reference_nodes(int gmsh_type) { return kind(gmsh_type).vtk_ref; }
 
 std::span<const double> flat(std::span<const Vec3> v) {
@@ -209,26 +204,36 @@ std::string xml_escape(std::string_view s) {
   out.reserve(s.size());
   for (char ch : s) {
     switch (ch) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += ch;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default:
+        out += ch;
     }
   }
   return out;
 }
 
-void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(std::ostream&)>& fill) {
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (path.has_parent_path()) {
     fs::create_directories(path.parent_path(), ec);
     if (ec) {
-      throw Error(fmt::format("cannot create directory {} for {}: {}", path.parent_path().string(),
-                              path.string(), ec.message()));
+      throw Error(fmt::format("cannot create directory {} for {}: {}", path.parent_path().string(), path.string(),
+                              ec.message()));
     }
   }
   fs::path tmp = path;
@@ -266,8 +271,7 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
   const std::string file = path.string();
   // 1. Check the input, so that nothing is written for inconsistent data.
   if (grid.points.size() % 3 != 0) {
-    throw Error(fmt::format("{}: {} point coordinates is not a multiple of 3", file,
-                            grid.points.size()));
+    throw Error(fmt::format("{}: {} point coordinates is not a multiple of 3", file, grid.points.size()));
   }
   const std::size_t n_points = grid.points.size() / 3;
   std::size_t n_cells = 0;
@@ -276,23 +280,25 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
     const auto& block = grid.cells[b];
     const CellKind* c = find_kind(block.gmsh_type);
     if (c == nullptr) {
-      throw Error(fmt::format(
-          "{}: cell block {} has Gmsh element type {}, which the VTU writer does not handle "
-          "(supported: 15, 1, 8, 26, 2, 9, 21, 4, 11, 29)",
-          file, b, block.gmsh_type));
+      throw Error(
+          fmt::format("{}: cell block {} has Gmsh element type {}, which the VTU writer does not handle "
+                      "(supported: 15, 1, 8, 26, 2, 9, 21, 4, 11, 29)",
+                      file, b, block.gmsh_type));
     }
     const auto npc = static_cast<std::size_t>(c->nodes);
     if (block.connectivity.size() % npc != 0) {
-      throw Error(fmt::format("{}: cell block {} (Gmsh type {}) has {} node indices, not a "
-                              "multiple of {}",
-                              file, b, block.gmsh_type, block.connectivity.size(), npc));
+      throw Error(
+          fmt::format("{}: cell block {} (Gmsh type {}) has {} node indices, not a "
+                      "multiple of {}",
+                      file, b, block.gmsh_type, block.connectivity.size(), npc));
     }
     for (std::size_t i = 0; i < block.connectivity.size(); ++i) {
       const Index v = block.connectivity[i];
       if (v < 0 || static_cast<std::size_t>(v) >= n_points) {
-        throw Error(fmt::format("{}: cell {} of block {} refers to point {}, but there are {} "
-                                "points",
-                                file, i / npc, b, v, n_points));
+        throw Error(
+            fmt::format("{}: cell {} of block {} refers to point {}, but there are {} "
+                        "points",
+                        file, i / npc, b, v, n_points));
       }
     }
     n_cells += block.connectivity.size() / npc;
@@ -327,8 +333,8 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
   // 3. XML header; every DataArray points into the appended block.
   std::vector<Blob> blobs;
   std::uint64_t offset = 0;
-  auto data_array = [&](std::string& xml, const char* type, const std::string& name,
-                        int components, const void* data, std::uint64_t bytes) {
+  auto data_array = [&](std::string& xml, const char* type, const std::string& name, int components, const void* data,
+                        std::uint64_t bytes) {
     xml += fmt::format("        <DataArray type=\"{}\" Name=\"{}\"", type, xml_escape(name));
     if (components > 0) xml += fmt::format(" NumberOfComponents=\"{}\"", components);
     xml += fmt::format(" format=\"appended\" offset=\"{}\"/>\n", offset);
@@ -337,8 +343,7 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
   };
   auto field_arrays = [&](std::string& xml, const std::vector<VtuField>& fields) {
     for (const auto& f : fields) {
-      data_array(xml, "Float64", f.name, f.components, f.values.data(),
-                 f.values.size() * sizeof(double));
+      data_array(xml, "Float64", f.name, f.components, f.values.data(), f.values.size() * sizeof(double));
     }
   };
 
@@ -357,8 +362,7 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
         double_text(*grid.time));
     xml += "    </FieldData>\n";
   }
-  xml += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_points,
-                     n_cells);
+  xml += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n_points, n_cells);
   xml += "      <PointData>\n";
   field_arrays(xml, grid.point_fields);
   xml += "      </PointData>\n";
@@ -366,12 +370,10 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
   field_arrays(xml, grid.cell_fields);
   xml += "      </CellData>\n";
   xml += "      <Points>\n";
-  data_array(xml, "Float64", "Points", 3, grid.points.data(),
-             grid.points.size() * sizeof(double));
+  data_array(xml, "Float64", "Points", 3, grid.points.data(), grid.points.size() * sizeof(double));
   xml += "      </Points>\n";
   xml += "      <Cells>\n";
-  data_array(xml, "Int64", "connectivity", 0, connectivity.data(),
-             connectivity.size() * sizeof(std::int64_t));
+  data_array(xml, "Int64", "connectivity", 0, connectivity.data(), connectivity.size() * sizeof(std::int64_t));
   data_array(xml, "Int64", "offsets", 0, offsets.data(), offsets.size() * sizeof(std::int64_t));
   data_array(xml, "UInt8", "types", 0, types.data(), types.size());
   xml += "      </Cells>\n";

@@ -101,8 +101,7 @@ std::span<const double> vtk_reference_nodes(int gmsh_type);
 /// Creates the parent directories of `path`, calls `fill` on a binary stream opened on
 /// `<path>.tmp`, then renames that file over `path`. Throws shellflow::Error (and removes
 /// the temporary file) if anything fails; `path` is then untouched.
-void write_file_atomically(const std::filesystem::path& path,
-                           const std::function<void(std::ostream&)>& fill);
+void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill);
 
 /// Escapes &, <, >, " and ' for use inside an XML attribute value.
 std::string xml_escape(std::string_view s);

@@ -40,7 +40,8 @@ inline std::string describe_value(const YAML::Node& node) {
   if (node.IsMap()) return "a map";
   if (node.IsSequence()) return node.size() == 0 ? "an empty list" : "a list";
   const std::string& text = node.Scalar();
-  return text.size() <= 60 ? fmt::format("'{}'", text) : fmt::format("'{}...' ({} characters)", text.substr(0, 60), text.size());
+  return text.size() <= 60 ? fmt::format("'{}'", text)
+                           : fmt::format("'{}...' ({} characters)", text.substr(0, 60), text.size());
 }
 
 inline int line_of(const YAML::Mark& mark, int fallback) {
@@ -82,8 +83,8 @@ struct YamlNode::Impl {
     if (std::find(known.begin(), known.end(), key) == known.end()) known.emplace_back(key);
   }
 
-  static std::shared_ptr<Impl> make(std::shared_ptr<const detail::Document> doc, YAML::Node node,
-                                    std::string path, int line) {
+  static std::shared_ptr<Impl> make(std::shared_ptr<const detail::Document> doc, YAML::Node node, std::string path,
+                                    int line) {
     auto impl = std::make_shared<Impl>();
     impl->doc = std::move(doc);
     impl->node = std::move(node);
@@ -100,8 +101,7 @@ struct YamlNode::Impl {
       const YAML::Node value = it->second;
       const int key_line = detail::line_of(key.Mark(), line);
       if (!key.IsScalar()) {
-        throw_at({doc->file, key_line, path},
-                 "expected a plain key name, got " + detail::describe_value(key));
+        throw_at({doc->file, key_line, path}, "expected a plain key name, got " + detail::describe_value(key));
       }
       if (const Entry* first = find(key.Scalar())) {
         throw_at({doc->file, key_line, path_of(key.Scalar())},

@@ -33,9 +33,7 @@ std::string SourceLocation::message(std::string_view what) const {
   return printable(fmt::format("{}: {}", prefix(), what));
 }
 
-void throw_at(const SourceLocation& where, std::string_view what) {
-  throw InputError(where.message(what));
-}
+void throw_at(const SourceLocation& where, std::string_view what) { throw InputError(where.message(what)); }
 
 bool Range::contains(double x) const {
   if (std::isnan(x)) return false;
@@ -94,8 +92,7 @@ std::string join(const std::vector<std::string>& items, std::string_view sep) {
 
 }  // namespace
 
-std::optional<std::string> closest_match(std::string_view word,
-                                         const std::vector<std::string>& candidates) {
+std::optional<std::string> closest_match(std::string_view word, const std::vector<std::string>& candidates) {
   const std::string w = lowercase(word);
   std::optional<std::string> best;
   std::size_t best_distance = std::numeric_limits<std::size_t>::max();
@@ -180,9 +177,7 @@ const YAML::Node& YamlNode::yaml() const { return impl_->node; }
 
 void YamlNode::fail(std::string_view what) const { impl_->fail(what); }
 
-void YamlNode::fail(std::string_view key, std::string_view what) const {
-  throw_at(location(key), what);
-}
+void YamlNode::fail(std::string_view key, std::string_view what) const { throw_at(location(key), what); }
 
 // ---- keys ---------------------------------------------------------------------------------------
 
@@ -216,8 +211,7 @@ std::vector<std::string> YamlNode::keys() const {
   return out;
 }
 
-void YamlNode::fail_missing(std::initializer_list<std::string_view> keys,
-                            std::string_view what) const {
+void YamlNode::fail_missing(std::initializer_list<std::string_view> keys, std::string_view what) const {
   // A key that is present but was never read and looks like one of the missing ones is most
   // likely a misspelling of it: report it where it is.
   std::vector<std::string> wanted(keys.begin(), keys.end());
@@ -312,15 +306,13 @@ std::string YamlNode::read_string(std::string_view key) const {
   return scalar_text(v, "a string");
 }
 
-void YamlNode::check_range(std::string_view key, double value, const Range& range,
-                           std::string_view unit) const {
+void YamlNode::check_range(std::string_view key, double value, const Range& range, std::string_view unit) const {
   if (range.contains(value)) return;
   const Value v = value_of(*this, key);
   throw_at(v.where, fmt::format("must be {}, got {}", range.describe(unit), v.node.Scalar()));
 }
 
-std::string YamlNode::choice(std::string_view key,
-                             std::span<const std::string_view> allowed) const {
+std::string YamlNode::choice(std::string_view key, std::span<const std::string_view> allowed) const {
   const std::string value = required<std::string>(key);
   std::vector<std::string> names(allowed.begin(), allowed.end());
   if (std::find(names.begin(), names.end(), value) != names.end()) return value;
@@ -339,8 +331,7 @@ std::string YamlNode::choice(std::string_view key, std::span<const std::string_v
   return choice(key, allowed);
 }
 
-std::string YamlNode::choice(std::string_view key,
-                             std::initializer_list<std::string_view> allowed) const {
+std::string YamlNode::choice(std::string_view key, std::initializer_list<std::string_view> allowed) const {
   return choice(key, std::span<const std::string_view>(allowed.begin(), allowed.size()));
 }
 
@@ -425,8 +416,8 @@ std::vector<YamlNode> YamlNode::list(std::string_view key) const {
     if (e.value.IsSequence()) {
       for (std::size_t i = 0; i < e.value.size(); ++i) {
         const YAML::Node item = e.value[i];
-        seq->items.push_back(Impl::make(impl_->doc, item, fmt::format("{}[{}]", seq->path, i),
-                                        line_of(item.Mark(), e.line)));
+        seq->items.push_back(
+            Impl::make(impl_->doc, item, fmt::format("{}[{}]", seq->path, i), line_of(item.Mark(), e.line)));
       }
     }
     e.child = std::move(seq);
@@ -448,8 +439,7 @@ std::vector<YamlNode> YamlNode::optional_list(std::string_view key) const {
 std::vector<std::string> YamlNode::unread_keys() const {
   std::vector<std::pair<int, std::string>> found;
   impl_->collect_unread(found);
-  std::stable_sort(found.begin(), found.end(),
-                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   std::vector<std::string> out;
   out.reserve(found.size());
   for (auto& f : found) out.push_back(std::move(f.second));
@@ -461,8 +451,7 @@ void YamlNode::finish() const {
   if (unread.empty()) return;
   std::string message = unread.front();
   if (unread.size() > 1) {
-    message += fmt::format(" (and {} more unknown key{})", unread.size() - 1,
-                           unread.size() > 2 ? "s" : "");
+    message += fmt::format(" (and {} more unknown key{})", unread.size() - 1, unread.size() > 2 ? "s" : "");
   }
   throw InputError(message);
 }

@@ -78,8 +78,7 @@ struct Range {
 /// of neighbours), used for "did you mean" suggestions.
 std::size_t edit_distance(std::string_view a, std::string_view b);
 /// The candidate closest to `word` if it is close enough to be a likely misspelling.
-std::optional<std::string> closest_match(std::string_view word,
-                                         const std::vector<std::string>& candidates);
+std::optional<std::string> closest_match(std::string_view word, const std::vector<std::string>& candidates);
 
 /// A command-line replacement of one key of a case file (`shellflow run --set KEY=VALUE`):
 /// `path` is dotted through maps (`fluid.free_stream.mach`), `value` is YAML (`2.1`,
@@ -151,8 +150,7 @@ class YamlNode {
   /// Numbers with a range check: "must be > 0 m, got -0.001". `unit` is printed after the
   /// bound ("m", "Pa", "kg/m^3"; empty for dimensionless).
   template <class T>
-  requires std::is_arithmetic_v<T> T required(std::string_view key, const Range& range,
-                                              std::string_view unit = {})
+  requires std::is_arithmetic_v<T> T required(std::string_view key, const Range& range, std::string_view unit = {})
   const;
   template <class T>
   requires std::is_arithmetic_v<T> T optional(std::string_view key, T fallback, const Range& range,
@@ -165,16 +163,13 @@ class YamlNode {
   std::string choice(std::string_view key, std::initializer_list<std::string_view> allowed,
                      std::string_view fallback) const;
   std::string choice(std::string_view key, std::span<const std::string_view> allowed) const;
-  std::string choice(std::string_view key, std::span<const std::string_view> allowed,
-                     std::string_view fallback) const;
+  std::string choice(std::string_view key, std::span<const std::string_view> allowed, std::string_view fallback) const;
   /// An enumeration read by name: `names[i]` is the name of `static_cast<E>(i)`.
   template <class E>
-  requires std::is_enum_v<E> E enumeration(std::string_view key,
-                                           std::span<const std::string_view> names)
+  requires std::is_enum_v<E> E enumeration(std::string_view key, std::span<const std::string_view> names)
   const;
   template <class E>
-  requires std::is_enum_v<E> E enumeration(std::string_view key,
-                                           std::span<const std::string_view> names, E fallback)
+  requires std::is_enum_v<E> E enumeration(std::string_view key, std::span<const std::string_view> names, E fallback)
   const;
 
   /// A list of exactly three numbers `[x, y, z]`.
@@ -215,8 +210,7 @@ class YamlNode {
   /// "missing required key 'x'" at this map — or, when an unread key looks like a misspelling
   /// of one of `keys`, "unknown key; did you mean ..." at that key's line. `what` replaces the
   /// default "missing required key 'x'" text when given.
-  [[noreturn]] void fail_missing(std::initializer_list<std::string_view> keys,
-                                 std::string_view what = {}) const;
+  [[noreturn]] void fail_missing(std::initializer_list<std::string_view> keys, std::string_view what = {}) const;
 
   /// Throws InputError for the first key (in document order) of this node and of every node
   /// taken from it that was never read: `unknown key; did you mean 'X'?` or
@@ -234,8 +228,7 @@ class YamlNode {
   std::int64_t read_integer(std::string_view key, std::int64_t lo, std::int64_t hi) const;
   bool read_bool(std::string_view key) const;
   std::string read_string(std::string_view key) const;
-  void check_range(std::string_view key, double value, const Range& range,
-                   std::string_view unit) const;
+  void check_range(std::string_view key, double value, const Range& range, std::string_view unit) const;
   // Registers `key` as known; true if present (and then marks it read when `consume`).
   bool lookup(std::string_view key, bool consume) const;
   [[noreturn]] void fail_missing_key(std::string_view key) const;
@@ -255,8 +248,7 @@ T YamlNode::read_value(std::string_view key) const {
   } else if constexpr (std::is_same_v<T, std::string>) {
     return read_string(key);
   } else if constexpr (std::is_integral_v<T>) {
-    constexpr std::int64_t lo =
-        std::is_signed_v<T> ? static_cast<std::int64_t>(std::numeric_limits<T>::lowest()) : 0;
+    constexpr std::int64_t lo = std::is_signed_v<T> ? static_cast<std::int64_t>(std::numeric_limits<T>::lowest()) : 0;
     constexpr std::int64_t hi = std::is_unsigned_v<T> && sizeof(T) >= sizeof(std::int64_t)
                                     ? std::numeric_limits<std::int64_t>::max()
                                     : static_cast<std::int64_t>(std::numeric_limits<T>::max());
@@ -287,8 +279,7 @@ std::optional<T> YamlNode::maybe(std::string_view key) const {
 }
 
 template <class T>
-requires std::is_arithmetic_v<T> T YamlNode::required(std::string_view key, const Range& range,
-                                                      std::string_view unit)
+requires std::is_arithmetic_v<T> T YamlNode::required(std::string_view key, const Range& range, std::string_view unit)
 const {
   const T value = required<T>(key);
   check_range(key, static_cast<double>(value), range, unit);
@@ -296,8 +287,8 @@ const {
 }
 
 template <class T>
-requires std::is_arithmetic_v<T> T YamlNode::optional(std::string_view key, T fallback,
-                                                      const Range& range, std::string_view unit)
+requires std::is_arithmetic_v<T> T YamlNode::optional(std::string_view key, T fallback, const Range& range,
+                                                      std::string_view unit)
 const {
   if (!lookup(key, true)) return fallback;
   const T value = read_value<T>(key);
@@ -306,8 +297,7 @@ const {
 }
 
 template <class E>
-requires std::is_enum_v<E> E YamlNode::enumeration(std::string_view key,
-                                                   std::span<const std::string_view> names)
+requires std::is_enum_v<E> E YamlNode::enumeration(std::string_view key, std::span<const std::string_view> names)
 const {
   const std::string value = choice(key, names);
   std::size_t i = 0;
@@ -316,8 +306,7 @@ const {
 }
 
 template <class E>
-requires std::is_enum_v<E> E YamlNode::enumeration(std::string_view key,
-                                                   std::span<const std::string_view> names,
+requires std::is_enum_v<E> E YamlNode::enumeration(std::string_view key, std::span<const std::string_view> names,
                                                    E fallback)
 const {
   if (!has(key)) return fallback;

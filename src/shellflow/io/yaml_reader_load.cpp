@@ -1,7 +1,5 @@
 // Loading a case file into a YamlNode: the one YAML document of the file or string, its
 // syntax errors with a hint, and the `--set KEY=VALUE` overrides.
-#include "shellflow/io/yaml_reader.h"
-
 #include <fmt/format.h>
 
 #include <cctype>
@@ -13,6 +11,7 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/io/yaml_node_impl.h"
+#include "shellflow/io/yaml_reader.h"
 
 namespace shellflow::io {
 
@@ -32,17 +31,12 @@ class DocumentCounter : public YAML::EventHandler {
   void OnDocumentEnd() override {}
   void OnNull(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
   void OnAlias(const YAML::Mark& m, YAML::anchor_t) override { note(m); }
-  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                const std::string&) override {
-    note(m);
-  }
-  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                       YAML::EmitterStyle::value) override {
+  void OnScalar(const YAML::Mark& m, const std::string&, YAML::anchor_t, const std::string&) override { note(m); }
+  void OnSequenceStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
     note(m);
   }
   void OnSequenceEnd() override {}
-  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t,
-                  YAML::EmitterStyle::value) override {
+  void OnMapStart(const YAML::Mark& m, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
     note(m);
   }
   void OnMapEnd() override {}
@@ -84,7 +78,7 @@ std::pair<int, int> count_documents(const std::string& text) {
       std::size_t at = pos >= 0 ? static_cast<std::size_t>(pos) : 0;
       while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at]))) ++at;
       const auto byte = at < text.size() ? static_cast<unsigned char>(text[at]) : 0;
-      const std::string what = at >= text.size() ? std::string("unexpected text")
+      const std::string what = at >= text.size()             ? std::string("unexpected text")
                                : byte >= 0x20 && byte < 0x7f ? fmt::format("unexpected '{}'", text[at])
                                                              : fmt::format("unexpected byte \\x{:02x}", byte);
       throw YAML::ParserException(mark, what);
@@ -103,8 +97,8 @@ std::pair<int, int> count_documents(const std::string& text) {
 KeyOverride KeyOverride::parse(std::string_view text, std::string_view option) {
   const auto eq = text.find('=');
   if (eq == std::string_view::npos || eq == 0)
-    throw InputError(fmt::format("{} '{}': expected KEY=VALUE, e.g. {} fluid.free_stream.mach=2.1", option, text,
-                                 option));
+    throw InputError(
+        fmt::format("{} '{}': expected KEY=VALUE, e.g. {} fluid.free_stream.mach=2.1", option, text, option));
   return {std::string(text.substr(0, eq)), std::string(text.substr(eq + 1))};
 }
 
@@ -122,8 +116,8 @@ void apply_overrides(YAML::Node root, std::span<const KeyOverride> overrides, co
     }
     for (const auto& k : keys)
       if (k.empty())
-        throw InputError(fmt::format("{}: --set {}: empty key in the path; write keys like fluid.free_stream.mach",
-                                     file, o.path));
+        throw InputError(
+            fmt::format("{}: --set {}: empty key in the path; write keys like fluid.free_stream.mach", file, o.path));
     YAML::Node value;
     try {
       value = YAML::Load(o.value);
@@ -162,8 +156,7 @@ YamlNode YamlNode::load_string(std::string_view text, const fs::path& file, std:
     const auto [count, second_line] = count_documents(owned);
     if (count > 1) {
       throw_at({doc->file, second_line, {}},
-               fmt::format("expected one YAML document, found {}; remove the '---' separators",
-                           count));
+               fmt::format("expected one YAML document, found {}; remove the '---' separators", count));
     }
     root = YAML::Load(owned);
   } catch (const YAML::Exception& e) {
@@ -171,9 +164,8 @@ YamlNode YamlNode::load_string(std::string_view text, const fs::path& file, std:
     throw_at({doc->file, line, {}}, fmt::format("YAML syntax error: {}; {}", e.msg, syntax_hint(owned, line)));
   }
   if (!root.IsMap()) {
-    throw_at({doc->file, 1, {}},
-             fmt::format("expected a map of keys at the top level, got {}",
-                         root.IsNull() ? std::string("an empty document") : describe_value(root)));
+    throw_at({doc->file, 1, {}}, fmt::format("expected a map of keys at the top level, got {}",
+                                             root.IsNull() ? std::string("an empty document") : describe_value(root)));
   }
   apply_overrides(root, overrides, doc->file);
   return YamlNode(Impl::make(std::move(doc), root, {}, 1));

@@ -28,8 +28,7 @@ std::string extension_of(const fs::path& file) { return lower(file.extension().s
 std::string read_text(const fs::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) {
-    throw_input_error("{}: cannot open the file (check the path and its permissions)",
-                      file.string());
+    throw_input_error("{}: cannot open the file (check the path and its permissions)", file.string());
   }
   std::ostringstream text;
   text << in.rdbuf();
@@ -37,9 +36,7 @@ std::string read_text(const fs::path& file) {
 }
 
 /// The folder of `file` ("." for a bare file name, so that paths can be joined to it).
-fs::path folder_of(const fs::path& file) {
-  return file.has_parent_path() ? file.parent_path() : fs::path(".");
-}
+fs::path folder_of(const fs::path& file) { return file.has_parent_path() ? file.parent_path() : fs::path("."); }
 
 bool is_cad_extension(const std::string& ext) {
   return ext == ".step" || ext == ".stp" || ext == ".iges" || ext == ".igs" || ext == ".brep";
@@ -62,9 +59,7 @@ std::vector<GeoToken> geo_tokens(std::string_view s) {
   int line = 1;
   std::size_t i = 0;
   const std::size_t n = s.size();
-  auto is_ident_start = [](char c) {
-    return std::isalpha(static_cast<unsigned char>(c)) || c == '_';
-  };
+  auto is_ident_start = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) || c == '_'; };
   auto is_ident = [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; };
   while (i < n) {
     const char c = s[i];
@@ -109,8 +104,8 @@ constexpr std::string_view kGeoFix =
     "yourself before the case)";
 
 struct GeoScanner {
-  fs::path root;  ///< folder of the top-level file: included/merged files must stay inside
-  std::vector<fs::path> stack;  ///< files being scanned (include cycles)
+  fs::path root;                          ///< folder of the top-level file: included/merged files must stay inside
+  std::vector<fs::path> stack;            ///< files being scanned (include cycles)
   std::vector<fs::path>* read = nullptr;  ///< when set, receives every file Gmsh would read
 
   [[noreturn]] static void fail(const fs::path& file, int line, std::string_view what) {
@@ -119,8 +114,7 @@ struct GeoScanner {
 
   /// A file named by Include/Merge/ShapeFromFile in `file`: a relative path that stays in
   /// the top-level folder and exists.
-  fs::path referenced_file(const fs::path& file, const GeoToken& command,
-                           const GeoToken& name) const {
+  fs::path referenced_file(const fs::path& file, const GeoToken& command, const GeoToken& name) const {
     const fs::path given(name.text);
     if (name.text.empty() || given.is_absolute()) {
       fail(file, name.line,
@@ -142,8 +136,7 @@ struct GeoScanner {
     std::error_code ec;
     if (!fs::is_regular_file(target, ec)) {
       fail(file, name.line,
-           fmt::format("'{}' of '{}': file not found (looked for '{}')", command.text,
-                       name.text, target.string()));
+           fmt::format("'{}' of '{}': file not found (looked for '{}')", command.text, name.text, target.string()));
     }
     return target;
   }
@@ -152,20 +145,20 @@ struct GeoScanner {
     std::error_code ec;
     const fs::path real = fs::weakly_canonical(file, ec);
     if (std::find(stack.begin(), stack.end(), real) != stack.end()) {
-      throw_input_error("{}: the script includes itself (through {}); remove the cycle",
-                        file.string(), stack.back().string());
+      throw_input_error("{}: the script includes itself (through {}); remove the cycle", file.string(),
+                        stack.back().string());
     }
     if (stack.size() > 32) {
-      throw_input_error("{}: more than 32 nested Include/Merge levels; flatten the scripts",
-                        file.string());
+      throw_input_error("{}: more than 32 nested Include/Merge levels; flatten the scripts", file.string());
     }
     stack.push_back(real);
     if (read) read->push_back(file);
     const std::string text = read_text(file);
     if (!text.empty() && text.front() == '$') {
-      throw_input_error("{}:1: looks like a Gmsh mesh or data file, not a .geo script (Gmsh would "
-                        "read it as a mesh); give a mesh as 'msh:' with a .msh name",
-                        file.string());
+      throw_input_error(
+          "{}:1: looks like a Gmsh mesh or data file, not a .geo script (Gmsh would "
+          "read it as a mesh); give a mesh as 'msh:' with a .msh name",
+          file.string());
     }
     const std::vector<GeoToken> tokens = geo_tokens(text);
     for (std::size_t k = 0; k < tokens.size(); ++k) {
@@ -209,8 +202,7 @@ struct GeoScanner {
           if (tokens[j].text == ")" && --depth <= 0) break;
           if (tokens[j].text == ";" && depth <= 0) break;
         }
-        if (j + 1 < tokens.size() && tokens[j + 1].kind == GeoToken::symbol &&
-            tokens[j + 1].text == ">") {
+        if (j + 1 < tokens.size() && tokens[j + 1].kind == GeoToken::symbol && tokens[j + 1].text == ">") {
           fail(file, t.line, fmt::format("Printf(...) > \"file\" writes a file; {}", kGeoFix));
         }
         continue;
@@ -220,12 +212,9 @@ struct GeoScanner {
       const bool shape = w == "ShapeFromFile";
       if (!include && !merge && !shape) continue;
       std::size_t j = k + 1;
-      if (shape && j < tokens.size() && tokens[j].text == "(" &&
-          tokens[j].kind == GeoToken::symbol)
-        ++j;
-      const bool literal = j < tokens.size() && tokens[j].kind == GeoToken::string &&
-                           j + 1 < tokens.size() && tokens[j + 1].kind == GeoToken::symbol &&
-                           tokens[j + 1].text == (shape ? ")" : ";");
+      if (shape && j < tokens.size() && tokens[j].text == "(" && tokens[j].kind == GeoToken::symbol) ++j;
+      const bool literal = j < tokens.size() && tokens[j].kind == GeoToken::string && j + 1 < tokens.size() &&
+                           tokens[j + 1].kind == GeoToken::symbol && tokens[j + 1].text == (shape ? ")" : ";");
       if (!literal) {
         fail(file, t.line,
              fmt::format("'{}' must name its file as one quoted relative path (e.g. {} "
@@ -239,9 +228,7 @@ struct GeoScanner {
         scan(target);  // Gmsh parses an included file as a script whatever its name
       } else if (shape) {
         if (!is_cad_extension(ext)) {
-          fail(file, t.line,
-               fmt::format("ShapeFromFile of '{}': expected a STEP, IGES or BREP file",
-                           tokens[j].text));
+          fail(file, t.line, fmt::format("ShapeFromFile of '{}': expected a STEP, IGES or BREP file", tokens[j].text));
         }
       } else if (ext == ".geo") {
         scan(target);
@@ -296,9 +283,10 @@ void check_input(const fs::path& file, std::vector<fs::path>* read) {
   } else if (is_cad_extension(ext)) {
     if (read) read->push_back(file);
   } else {
-    throw_input_error("{}: Gmsh would read a '{}' file as a script or in an unchecked format; "
-                      "give a .geo script, a .msh mesh (format 4.1) or a STEP/IGES/BREP file",
-                      file.string(), ext.empty() ? std::string("(no extension)") : ext);
+    throw_input_error(
+        "{}: Gmsh would read a '{}' file as a script or in an unchecked format; "
+        "give a .geo script, a .msh mesh (format 4.1) or a STEP/IGES/BREP file",
+        file.string(), ext.empty() ? std::string("(no extension)") : ext);
   }
   scanner.stack.clear();
   scanner.scan_option_files(file);

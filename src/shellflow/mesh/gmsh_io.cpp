@@ -65,9 +65,10 @@ void with_gmsh(const std::filesystem::path& file, std::string_view action, F&& f
 
 void require_file(const std::filesystem::path& file) {
   if (!std::filesystem::is_regular_file(file)) {
-    throw_input_error("{}: file not found (check the path; relative paths are relative to the "
-                      "case file)",
-                      file.string());
+    throw_input_error(
+        "{}: file not found (check the path; relative paths are relative to the "
+        "case file)",
+        file.string());
   }
 }
 
@@ -89,18 +90,20 @@ Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
   }
   if (dim < 0) throw_input_error("{}: the file holds no mesh elements", mesh.source);
   if (types.size() != 1) {
-    throw_input_error("{}: the {}-D mesh mixes {} element types; shellflow needs one type per "
-                      "mesh (no quads/prisms/pyramids: mesh without Recombine)",
-                      mesh.source, dim, types.size());
+    throw_input_error(
+        "{}: the {}-D mesh mixes {} element types; shellflow needs one type per "
+        "mesh (no quads/prisms/pyramids: mesh without Recombine)",
+        mesh.source, dim, types.size());
   }
   if (!is_supported_element_type(types[0])) {
     std::string name;
     int edim = 0, order = 0, nn = 0, npn = 0;
     std::vector<double> local;
     gmsh::model::mesh::getElementProperties(types[0], name, edim, order, nn, local, npn);
-    throw_input_error("{}: element type '{}' (Gmsh type {}) is not supported; use triangles or "
-                      "tetrahedra of order 1, 2 or 3 (no Recombine, complete elements)",
-                      mesh.source, name, types[0]);
+    throw_input_error(
+        "{}: element type '{}' (Gmsh type {}) is not supported; use triangles or "
+        "tetrahedra of order 1, 2 or 3 (no Recombine, complete elements)",
+        mesh.source, name, types[0]);
   }
   mesh.cells.type = static_cast<ElementType>(types[0]);
 
@@ -123,8 +126,7 @@ Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
   for (std::size_t i = 0; i < all_tags.size(); ++i) {
     auto it = index_of.find(all_tags[i]);
     if (it != index_of.end()) {
-      mesh.nodes[static_cast<std::size_t>(it->second)] =
-          Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
+      mesh.nodes[static_cast<std::size_t>(it->second)] = Vec3(coords[3 * i], coords[3 * i + 1], coords[3 * i + 2]);
     }
   }
 
@@ -133,8 +135,7 @@ Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
                  [&](std::size_t tag) { return index_of.at(tag); });
   std::unordered_map<std::size_t, Index> cell_index_of;
   cell_index_of.reserve(cell_tags.size());
-  for (std::size_t i = 0; i < cell_tags.size(); ++i)
-    cell_index_of.emplace(cell_tags[i], static_cast<Index>(i));
+  for (std::size_t i = 0; i < cell_tags.size(); ++i) cell_index_of.emplace(cell_tags[i], static_cast<Index>(i));
 
   // Physical groups.
   gmsh::vectorpair groups;
@@ -158,17 +159,17 @@ Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
         if (gdim == 0) continue;
         if (!is_supported_element_type(etypes[t])) continue;
         if (type_set && static_cast<int>(group.elements.type) != etypes[t]) {
-          throw_input_error("{}: physical group '{}' mixes element types", mesh.source,
-                            group.name);
+          throw_input_error("{}: physical group '{}' mixes element types", mesh.source, group.name);
         }
         group.elements.type = static_cast<ElementType>(etypes[t]);
         type_set = true;
         for (std::size_t tag : enodes[t]) {
           auto it = index_of.find(tag);
           if (it == index_of.end()) {
-            throw_input_error("{}: physical group '{}' has a node (tag {}) that no {}-D element "
-                              "uses; the group must lie on the mesh's boundary",
-                              mesh.source, group.name, tag, dim);
+            throw_input_error(
+                "{}: physical group '{}' has a node (tag {}) that no {}-D element "
+                "uses; the group must lie on the mesh's boundary",
+                mesh.source, group.name, tag, dim);
           }
           group.elements.connectivity.push_back(it->second);
         }
@@ -194,16 +195,13 @@ Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
 
 }  // namespace
 
-Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options,
-                   std::string mesh_name) {
+Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options, std::string mesh_name) {
   require_file(geometry);
   if (options.order < 1 || options.order > 3) {
-    throw_input_error("{}: element order {} is not supported; use 1, 2 or 3", geometry.string(),
-                      options.order);
+    throw_input_error("{}: element order {} is not supported; use 1, 2 or 3", geometry.string(), options.order);
   }
   if (!(options.size_factor > 0.0)) {
-    throw_input_error("{}: mesh size factor must be > 0, got {}", geometry.string(),
-                      options.size_factor);
+    throw_input_error("{}: mesh size factor must be > 0, got {}", geometry.string(), options.size_factor);
   }
   check_gmsh_input(geometry);  // no commands run from the script, no damaged mesh to Gmsh
   GmshSession session(options.verbose);

@@ -17,13 +17,12 @@ struct MeshingOptions {
   int dim = -1;              ///< dimension to mesh; -1: the highest dimension of the geometry
   /// Also write the generated mesh here (`.msh` 4.1), when set.
   std::optional<std::filesystem::path> msh_output;
-  bool verbose = false;      ///< let Gmsh print its progress
+  bool verbose = false;  ///< let Gmsh print its progress
 };
 
 /// Meshes a `.geo` (or any geometry Gmsh opens) and returns the mesh of its highest
 /// dimension. Throws InputError naming the file when Gmsh fails.
-Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options,
-                   std::string mesh_name);
+Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options, std::string mesh_name);
 
 /// Reads a `.msh` file. Element order is whatever the file holds.
 Mesh read_msh(const std::filesystem::path& msh, std::string mesh_name);

@@ -44,30 +44,37 @@ const ElementInfo& element_info(ElementType type) { return element_info(static_c
 
 ElementType facet_type(ElementType type) {
   switch (type) {
-    case ElementType::tet4: return ElementType::tri3;
-    case ElementType::tet10: return ElementType::tri6;
-    case ElementType::tet20: return ElementType::tri10;
-    case ElementType::tri3: return ElementType::line2;
-    case ElementType::tri6: return ElementType::line3;
-    case ElementType::tri10: return ElementType::line4;
+    case ElementType::tet4:
+      return ElementType::tri3;
+    case ElementType::tet10:
+      return ElementType::tri6;
+    case ElementType::tet20:
+      return ElementType::tri10;
+    case ElementType::tri3:
+      return ElementType::line2;
+    case ElementType::tri6:
+      return ElementType::line3;
+    case ElementType::tri10:
+      return ElementType::line4;
     case ElementType::line2:
     case ElementType::line3:
-    case ElementType::line4: return ElementType::point;
-    case ElementType::point: break;
+    case ElementType::line4:
+      return ElementType::point;
+    case ElementType::point:
+      break;
   }
   throw Error("facet_type: a point has no facets");
 }
 
 const PhysicalGroup* Mesh::find_group(std::string_view group_name) const {
-  auto it = std::find_if(groups.begin(), groups.end(),
-                         [&](const PhysicalGroup& g) { return g.name == group_name; });
+  auto it = std::find_if(groups.begin(), groups.end(), [&](const PhysicalGroup& g) { return g.name == group_name; });
   return it == groups.end() ? nullptr : &*it;
 }
 
 const PhysicalGroup& Mesh::group(std::string_view group_name) const {
   if (const auto* g = find_group(group_name)) return *g;
-  throw_input_error("{}: physical group '{}' not found in the {} mesh; available: {}", source,
-                    group_name, name, fmt::join(group_names(), ", "));
+  throw_input_error("{}: physical group '{}' not found in the {} mesh; available: {}", source, group_name, name,
+                    fmt::join(group_names(), ", "));
 }
 
 std::vector<std::string> Mesh::group_names() const {

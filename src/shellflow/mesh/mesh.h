@@ -61,18 +61,18 @@ struct PhysicalGroup {
   std::string name;
   int dim = 0;
   int tag = 0;
-  ElementBlock elements;        ///< elements of dimension `dim` (empty for dim 0)
-  std::vector<Index> nodes;     ///< sorted unique node indices of the group
-  std::vector<Index> cells;     ///< cell indices, when `dim` equals the mesh dimension
+  ElementBlock elements;     ///< elements of dimension `dim` (empty for dim 0)
+  std::vector<Index> nodes;  ///< sorted unique node indices of the group
+  std::vector<Index> cells;  ///< cell indices, when `dim` equals the mesh dimension
 };
 
 /// A mesh of one element type, with its nodes and physical groups.
 struct Mesh {
-  std::string name;                   ///< e.g. "fluid", "space", "shell"
-  std::string source;                 ///< file it came from (for messages)
-  std::vector<Vec3> nodes;            ///< node coordinates
-  std::vector<std::size_t> node_tags; ///< Gmsh tag of each node (for messages and .msh output)
-  ElementBlock cells;                 ///< the mesh's cells (highest dimension)
+  std::string name;                    ///< e.g. "fluid", "space", "shell"
+  std::string source;                  ///< file it came from (for messages)
+  std::vector<Vec3> nodes;             ///< node coordinates
+  std::vector<std::size_t> node_tags;  ///< Gmsh tag of each node (for messages and .msh output)
+  ElementBlock cells;                  ///< the mesh's cells (highest dimension)
   std::vector<PhysicalGroup> groups;
 
   Index num_nodes() const { return static_cast<Index>(nodes.size()); }

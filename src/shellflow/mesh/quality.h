@@ -24,12 +24,12 @@ double triangle_quality(const Vec3& a, const Vec3& b, const Vec3& c);
 std::vector<double> cell_qualities(const Mesh& mesh, std::span<const Vec3> positions = {});
 
 struct QualitySummary {
-  double min = 0.0;        ///< smallest quality (negative if any cell is inverted)
+  double min = 0.0;  ///< smallest quality (negative if any cell is inverted)
   double mean = 0.0;
-  Index worst_cell = -1;   ///< index of the cell with the smallest quality
-  Index inverted = 0;      ///< number of cells with non-positive volume (tetrahedra)
-  double min_volume = 0.0; ///< smallest signed volume (tetrahedra) or area (triangles)
-  double min_ratio = 1.0;  ///< smallest ratio of a cell's quality to its `reference` quality
+  Index worst_cell = -1;    ///< index of the cell with the smallest quality
+  Index inverted = 0;       ///< number of cells with non-positive volume (tetrahedra)
+  double min_volume = 0.0;  ///< smallest signed volume (tetrahedra) or area (triangles)
+  double min_ratio = 1.0;   ///< smallest ratio of a cell's quality to its `reference` quality
 };
 /// The quality of every cell summarised (at `positions` when not empty); with `reference`
 /// (one quality per cell, e.g. cell_qualities of the initial mesh) also the smallest ratio

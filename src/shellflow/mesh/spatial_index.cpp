@@ -1,10 +1,9 @@
 #include "shellflow/mesh/spatial_index.h"
 
-#include <nanoflann.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <nanoflann.hpp>
 #include <numeric>
 #include <queue>
 
@@ -24,8 +23,7 @@ struct PointIndex::Impl {
       return false;
     }
   };
-  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>,
-                                                   Cloud, 3, Index>;
+  using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3, Index>;
   Cloud cloud;
   Tree tree;
   explicit Impl(std::vector<Vec3> points)
@@ -67,8 +65,7 @@ std::vector<PointHit> PointIndex::within(const Vec3& p, double radius) const {
 
 // ---------------------------------------------------------------- BoxTree
 
-std::vector<Box> element_boxes(std::span<const Vec3> nodes, const ElementBlock& elements,
-                               double relative_padding) {
+std::vector<Box> element_boxes(std::span<const Vec3> nodes, const ElementBlock& elements, double relative_padding) {
   std::vector<Box> boxes(static_cast<std::size_t>(elements.size()));
   for (Index e = 0; e < elements.size(); ++e) {
     Box& b = boxes[static_cast<std::size_t>(e)];
@@ -90,7 +87,8 @@ Index BoxTree::build(Index first, Index count) {
   const Index id = static_cast<Index>(nodes_.size());
   nodes_.emplace_back();
   Box bounds;
-  for (Index i = first; i < first + count; ++i) bounds.extend(boxes_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])]);
+  for (Index i = first; i < first + count; ++i)
+    bounds.extend(boxes_[static_cast<std::size_t>(order_[static_cast<std::size_t>(i)])]);
   nodes_[static_cast<std::size_t>(id)].box = bounds;
   if (count <= leaf_size) {
     nodes_[static_cast<std::size_t>(id)].first = first;
@@ -175,11 +173,9 @@ PointHit BoxTree::nearest(const Vec3& p, const std::function<double(Index)>& exa
 
 // ---------------------------------------------------------------- CellLocator
 
-CellLocator::CellLocator(const Mesh& mesh)
-    : mesh_(mesh), tree_(element_boxes(mesh.nodes, mesh.cells, 1e-9)) {
+CellLocator::CellLocator(const Mesh& mesh) : mesh_(mesh), tree_(element_boxes(mesh.nodes, mesh.cells, 1e-9)) {
   if (mesh.dim() != 3) {
-    throw Error(fmt::format("CellLocator: the {} mesh ({}) is not a tetrahedral mesh", mesh.name,
-                            mesh.source));
+    throw Error(fmt::format("CellLocator: the {} mesh ({}) is not a tetrahedral mesh", mesh.name, mesh.source));
   }
 }
 
@@ -227,9 +223,7 @@ Vec2 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, cons
 }
 
 SurfaceLocator::SurfaceLocator(std::span<const Vec3> nodes, const ElementBlock& triangles)
-    : nodes_(nodes.begin(), nodes.end()),
-      triangles_(triangles),
-      tree_(element_boxes(nodes, triangles, 0.0)) {
+    : nodes_(nodes.begin(), nodes.end()), triangles_(triangles), tree_(element_boxes(nodes, triangles, 0.0)) {
   if (element_info(triangles.type).dim != 2) {
     throw Error("SurfaceLocator: the element block is not made of triangles");
   }
@@ -238,8 +232,7 @@ SurfaceLocator::SurfaceLocator(std::span<const Vec3> nodes, const ElementBlock& 
 SurfacePoint SurfaceLocator::closest(const Vec3& p) const {
   auto vertices = [&](Index e) {
     const auto v = triangles_.element(e);
-    return std::array<const Vec3*, 3>{&nodes_[static_cast<std::size_t>(v[0])],
-                                      &nodes_[static_cast<std::size_t>(v[1])],
+    return std::array<const Vec3*, 3>{&nodes_[static_cast<std::size_t>(v[0])], &nodes_[static_cast<std::size_t>(v[1])],
                                       &nodes_[static_cast<std::size_t>(v[2])]};
   };
   auto point_at = [&](Index e, const Vec2& xi) {

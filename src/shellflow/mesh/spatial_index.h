@@ -58,13 +58,9 @@ struct Box {
     lo.array() -= margin;
     hi.array() += margin;
   }
-  bool contains(const Vec3& p) const {
-    return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all();
-  }
+  bool contains(const Vec3& p) const { return (p.array() >= lo.array()).all() && (p.array() <= hi.array()).all(); }
   /// Squared distance from p to the box (0 inside).
-  double squared_distance(const Vec3& p) const {
-    return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm();
-  }
+  double squared_distance(const Vec3& p) const { return (lo - p).cwiseMax(p - hi).cwiseMax(0.0).squaredNorm(); }
   Vec3 extent() const { return hi - lo; }
 };
 
@@ -123,8 +119,8 @@ class CellLocator {
 
 /// Closest point on a triangulated surface.
 struct SurfacePoint {
-  Index element = -1;       ///< triangle index in the block
-  Vec2 xi = Vec2::Zero();   ///< reference coordinates in that triangle
+  Index element = -1;      ///< triangle index in the block
+  Vec2 xi = Vec2::Zero();  ///< reference coordinates in that triangle
   Vec3 point = Vec3::Zero();
   double distance = 0.0;
 };

@@ -7,8 +7,7 @@
 
 namespace shellflow::motion {
 
-PanelModesMotion::PanelModesMotion(Vec3 leading_edge, Vec3 tangent, double length, Vec3 normal,
-                                   std::vector<Mode> modes)
+PanelModesMotion::PanelModesMotion(Vec3 leading_edge, Vec3 tangent, double length, Vec3 normal, std::vector<Mode> modes)
     : leading_edge_(leading_edge),
       tangent_(tangent.normalized()),
       normal_(normal.normalized()),
@@ -22,8 +21,7 @@ int PanelModesMotion::register_points(std::span<const Vec3> initial_positions) {
   return static_cast<int>(point_sets_.size()) - 1;
 }
 
-void PanelModesMotion::evaluate(int handle, double time, std::span<Vec3> displacement,
-                                std::span<Vec3> velocity) const {
+void PanelModesMotion::evaluate(int handle, double time, std::span<Vec3> displacement, std::span<Vec3> velocity) const {
   const auto& points = point_sets_.at(static_cast<std::size_t>(handle));
   for (std::size_t i = 0; i < points.size(); ++i) {
     const double s = (points[i] - leading_edge_).dot(tangent_);
@@ -44,8 +42,7 @@ double PanelModesMotion::deflection(const Vec3& X, double time) const {
   const double s = (X - leading_edge_).dot(tangent_);
   if (s < 0.0 || s > length_) return 0.0;
   double w = 0.0;
-  for (const Mode& m : modes_)
-    w += m.amplitude.value(time) * std::sin(m.wave_number * std::numbers::pi * s / length_);
+  for (const Mode& m : modes_) w += m.amplitude.value(time) * std::sin(m.wave_number * std::numbers::pi * s / length_);
   return w;
 }
 

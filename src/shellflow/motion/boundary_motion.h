@@ -19,8 +19,7 @@ class BoundaryMotion {
   /// implementation can precompute (e.g. closest shell points). Returns a handle.
   virtual int register_points(std::span<const Vec3> initial_positions) = 0;
   /// Displacement and velocity at time t of the points registered under `handle`.
-  virtual void evaluate(int handle, double time, std::span<Vec3> displacement,
-                        std::span<Vec3> velocity) const = 0;
+  virtual void evaluate(int handle, double time, std::span<Vec3> displacement, std::span<Vec3> velocity) const = 0;
 
   // Motions that are, over their current window, a sum of K fixed fields times functions
   // of time, d(X, t) = sum_k c_k(t) f_k(X) and v(X, t) = sum_k c_k'(t) f_k(X) (the shell's
@@ -41,15 +40,13 @@ class BoundaryMotion {
 class PanelModesMotion final : public BoundaryMotion {
  public:
   struct Mode {
-    int wave_number = 1;       ///< m
-    TimeFunction amplitude;    ///< A_m(t) [m]
+    int wave_number = 1;     ///< m
+    TimeFunction amplitude;  ///< A_m(t) [m]
   };
-  PanelModesMotion(Vec3 leading_edge, Vec3 tangent, double length, Vec3 normal,
-                   std::vector<Mode> modes);
+  PanelModesMotion(Vec3 leading_edge, Vec3 tangent, double length, Vec3 normal, std::vector<Mode> modes);
 
   int register_points(std::span<const Vec3> initial_positions) override;
-  void evaluate(int handle, double time, std::span<Vec3> displacement,
-                std::span<Vec3> velocity) const override;
+  void evaluate(int handle, double time, std::span<Vec3> displacement, std::span<Vec3> velocity) const override;
 
   /// Deflection shape factor at an initial position: sum over modes of sin(m pi s/L) weights.
   double deflection(const Vec3& X, double time) const;
@@ -66,8 +63,7 @@ class TranslationMotion final : public BoundaryMotion {
  public:
   TranslationMotion(Vec3 direction, TimeFunction amount);
   int register_points(std::span<const Vec3> initial_positions) override;
-  void evaluate(int handle, double time, std::span<Vec3> displacement,
-                std::span<Vec3> velocity) const override;
+  void evaluate(int handle, double time, std::span<Vec3> displacement, std::span<Vec3> velocity) const override;
 
  private:
   Vec3 direction_;

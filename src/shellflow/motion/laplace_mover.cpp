@@ -25,16 +25,15 @@ ColMatrix p1_stiffness(const mesh::Mesh& fluid) {
     const auto v = fluid.cells.element(e);
     std::array<Vec3, 4> p;
     for (int a = 0; a < 4; ++a)
-      p[static_cast<std::size_t>(a)] =
-          fluid.nodes[static_cast<std::size_t>(v[static_cast<std::size_t>(a)])];
+      p[static_cast<std::size_t>(a)] = fluid.nodes[static_cast<std::size_t>(v[static_cast<std::size_t>(a)])];
     Mat3 jacobian;
     jacobian.col(0) = p[1] - p[0];
     jacobian.col(1) = p[2] - p[0];
     jacobian.col(2) = p[3] - p[0];
     const double det = jacobian.determinant();
     if (!(det > 0.0)) {
-      throw_input_error("{}: fluid element {} has non-positive volume {:.3g} m^3; fix the mesh",
-                        fluid.source, e, det / 6.0);
+      throw_input_error("{}: fluid element {} has non-positive volume {:.3g} m^3; fix the mesh", fluid.source, e,
+                        det / 6.0);
     }
     const Mat3 inverse = jacobian.inverse();  // rows: gradients of N_1, N_2, N_3
     std::array<Vec3, 4> grad;
@@ -44,8 +43,7 @@ ColMatrix p1_stiffness(const mesh::Mesh& fluid) {
     grad[0] = -(grad[1] + grad[2] + grad[3]);
     const double volume = det / 6.0;
     for (std::size_t a = 0; a < 4; ++a)
-      for (std::size_t b = 0; b < 4; ++b)
-        triplets.emplace_back(v[a], v[b], volume * grad[a].dot(grad[b]));
+      for (std::size_t b = 0; b < 4; ++b) triplets.emplace_back(v[a], v[b], volume * grad[a].dot(grad[b]));
   }
   ColMatrix k(fluid.num_nodes(), fluid.num_nodes());
   k.setFromTriplets(triplets.begin(), triplets.end());
@@ -60,8 +58,7 @@ int normal_axis(const Vec3& n, const mesh::Mesh& fluid, Index node) {
       "{}: sliding plane through node {} (tag {}) has normal ({:.4g}, {:.4g}, "
       "{:.4g}); the Laplacian mesh mover handles only sliding planes normal to a "
       "coordinate axis (use the space-mesh or direct IDW mover)",
-      fluid.source, node,
-      fluid.node_tags.empty() ? 0 : fluid.node_tags[static_cast<std::size_t>(node)], n.x(), n.y(),
+      fluid.source, node, fluid.node_tags.empty() ? 0 : fluid.node_tags[static_cast<std::size_t>(node)], n.x(), n.y(),
       n.z());
 }
 
@@ -73,24 +70,21 @@ std::size_t sparse_bytes(const Matrix& m) {
 
 }  // namespace
 
-LaplaceMover::LaplaceMover(const mesh::Mesh& fluid, const BoundaryGroups& groups,
-                           BoundaryMotion& motion, double tolerance)
+LaplaceMover::LaplaceMover(const mesh::Mesh& fluid, const BoundaryGroups& groups, BoundaryMotion& motion,
+                           double tolerance)
     : fluid_(fluid), boundary_(classify_fluid_boundary(fluid, groups)), motion_(motion) {
   const ColMatrix k = p1_stiffness(fluid);
   const auto n = static_cast<std::size_t>(fluid.num_nodes());
 
   // Which components of each node are prescribed.
   std::vector<std::array<bool, 3>> prescribed(n, {false, false, false});
-  for (Index i : boundary_.interface_nodes)
-    prescribed[static_cast<std::size_t>(i)] = {true, true, true};
-  for (Index i : boundary_.fixed_nodes)
-    prescribed[static_cast<std::size_t>(i)] = {true, true, true};
+  for (Index i : boundary_.interface_nodes) prescribed[static_cast<std::size_t>(i)] = {true, true, true};
+  for (Index i : boundary_.fixed_nodes) prescribed[static_cast<std::size_t>(i)] = {true, true, true};
   for (std::size_t s = 0; s < boundary_.sliding_nodes.size(); ++s) {
     const Index node = boundary_.sliding_nodes[s];
     for (const Vec3& normal : boundary_.sliding_normals[s]) {
       if (normal.isZero()) continue;
-      prescribed[static_cast<std::size_t>(node)]
-                [static_cast<std::size_t>(normal_axis(normal, fluid, node))] = true;
+      prescribed[static_cast<std::size_t>(node)][static_cast<std::size_t>(normal_axis(normal, fluid, node))] = true;
     }
   }
   std::vector<int> interface_index(n, -1);
@@ -142,8 +136,7 @@ LaplaceMover::LaplaceMover(const mesh::Mesh& fluid, const BoundaryGroups& groups
 
   std::vector<Vec3> interface_positions;
   interface_positions.reserve(boundary_.interface_nodes.size());
-  for (Index i : boundary_.interface_nodes)
-    interface_positions.push_back(fluid.nodes[static_cast<std::size_t>(i)]);
+  for (Index i : boundary_.interface_nodes) interface_positions.push_back(fluid.nodes[static_cast<std::size_t>(i)]);
   handle_ = motion_.register_points(interface_positions);
   iu_.resize(interface_positions.size());
   iv_.resize(interface_positions.size());
@@ -198,11 +191,9 @@ void LaplaceMover::update(double time, std::span<Vec3> x, std::span<Vec3> w_out)
     } else {
       comp.v_older = comp.v;
     }
-    for (std::size_t j = 0; j < iu_.size(); ++j)
-      comp.boundary[static_cast<Eigen::Index>(j)] = iu_[j][k];
+    for (std::size_t j = 0; j < iu_.size(); ++j) comp.boundary[static_cast<Eigen::Index>(j)] = iu_[j][k];
     solve(comp, comp.boundary, comp.u);
-    for (std::size_t j = 0; j < iv_.size(); ++j)
-      comp.boundary[static_cast<Eigen::Index>(j)] = iv_[j][k];
+    for (std::size_t j = 0; j < iv_.size(); ++j) comp.boundary[static_cast<Eigen::Index>(j)] = iv_[j][k];
     solve(comp, comp.boundary, comp.v);
     for (std::size_t f = 0; f < comp.free.size(); ++f) {
       const auto node = static_cast<std::size_t>(comp.free[f]);
@@ -244,8 +235,7 @@ std::size_t LaplaceMover::memory_bytes() const {
   for (const Component& c : components_) {
     bytes += sparse_bytes(c.a_ff) + sparse_bytes(c.a_fi);
     bytes += c.free.size() * sizeof(Index);
-    bytes += static_cast<std::size_t>(c.u.size() + c.v.size() + c.v_older.size() + c.rhs.size() +
-                                      c.boundary.size()) *
+    bytes += static_cast<std::size_t>(c.u.size() + c.v.size() + c.v_older.size() + c.rhs.size() + c.boundary.size()) *
              sizeof(double);
     if (!c.free.empty()) {
       // Incomplete Cholesky: the factor L, the diagonal scaling and the fill-reducing

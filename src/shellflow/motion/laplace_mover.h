@@ -30,8 +30,7 @@ class LaplaceMover final : public FluidMeshMover {
   /// Throws InputError when the fluid mesh is not made of 4-node tetrahedra, has an element
   /// of non-positive volume, or a sliding plane is not normal to a coordinate axis.
   /// `tolerance`: CG stopping criterion |r| <= tolerance |b| (relative residual).
-  LaplaceMover(const mesh::Mesh& fluid, const BoundaryGroups& groups, BoundaryMotion& motion,
-               double tolerance = 1e-10);
+  LaplaceMover(const mesh::Mesh& fluid, const BoundaryGroups& groups, BoundaryMotion& motion, double tolerance = 1e-10);
   // The solvers keep references to the matrices: not copyable or movable.
   LaplaceMover(const LaplaceMover&) = delete;
   LaplaceMover& operator=(const LaplaceMover&) = delete;
@@ -55,8 +54,7 @@ class LaplaceMover final : public FluidMeshMover {
 
  private:
   using RowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-  using Solver = Eigen::ConjugateGradient<RowMatrix, Eigen::Lower | Eigen::Upper,
-                                          Eigen::IncompleteCholesky<double>>;
+  using Solver = Eigen::ConjugateGradient<RowMatrix, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>>;
   struct Component {
     std::vector<Index> free;
     RowMatrix a_ff;  ///< K restricted to the free nodes
@@ -75,7 +73,7 @@ class LaplaceMover final : public FluidMeshMover {
   std::array<Component, 3> components_;
   int handle_ = -1;
   std::vector<Vec3> iu_, iv_;
-  std::vector<Vec3> w_scratch_;  // the velocities of an update that asks for positions only
+  std::vector<Vec3> w_scratch_;          // the velocities of an update that asks for positions only
   int updates_ = 0;                      ///< updates done so far
   double t_last_ = 0.0, t_older_ = 0.0;  ///< times of the last two updates
   int last_iterations_ = 0;

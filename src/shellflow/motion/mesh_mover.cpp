@@ -25,8 +25,7 @@ std::vector<double> lumped_group_areas(const mesh::Mesh& m, const std::vector<st
 }  // namespace
 
 FluidBoundaryNodes classify_fluid_boundary(const mesh::Mesh& fluid, const BoundaryGroups& groups) {
-  const auto c = classify_nodes(fluid, groups.interface_groups, groups.fixed_groups,
-                                groups.sliding_groups);
+  const auto c = classify_nodes(fluid, groups.interface_groups, groups.fixed_groups, groups.sliding_groups);
   const auto interface_area = lumped_group_areas(fluid, groups.interface_groups);
   const auto fixed_area = lumped_group_areas(fluid, groups.fixed_groups);
   FluidBoundaryNodes b;
@@ -45,7 +44,8 @@ FluidBoundaryNodes classify_fluid_boundary(const mesh::Mesh& fluid, const Bounda
         b.sliding_nodes.push_back(i);
         b.sliding_normals.push_back(c.sliding_normals[k]);
         break;
-      case NodeClass::interior: break;
+      case NodeClass::interior:
+        break;
     }
   }
   return b;
@@ -53,12 +53,10 @@ FluidBoundaryNodes classify_fluid_boundary(const mesh::Mesh& fluid, const Bounda
 
 // ---------------------------------------------------------------- SpaceMeshMover
 
-SpaceMeshMover::SpaceMeshMover(const mesh::Mesh& fluid, const mesh::Mesh& space,
-                               SpaceMeshOptions options, BoundaryMotion& motion,
-                               std::vector<Vec3> samples, std::vector<double> sample_areas)
+SpaceMeshMover::SpaceMeshMover(const mesh::Mesh& fluid, const mesh::Mesh& space, SpaceMeshOptions options,
+                               BoundaryMotion& motion, std::vector<Vec3> samples, std::vector<double> sample_areas)
     : space_(space, options), motion_(motion), fluid_initial_(fluid.nodes) {
-  const BoundaryGroups groups{options.interface_groups, options.fixed_groups,
-                              options.sliding_groups};
+  const BoundaryGroups groups{options.interface_groups, options.fixed_groups, options.sliding_groups};
   const auto fluid_boundary = classify_fluid_boundary(fluid, groups);
   fluid_interface_ = fluid_boundary.interface_nodes;
   if (samples.empty()) {
@@ -149,8 +147,8 @@ void SpaceMeshMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
 
 std::size_t SpaceMeshMover::memory_bytes() const {
   // Locations (element + 20 shape values per fluid node) and the IDW weight rows.
-  const std::size_t idw_rows = space_.mesh().nodes.size() - space_.interface_nodes().size() -
-                               space_.fixed_nodes().size();
+  const std::size_t idw_rows =
+      space_.mesh().nodes.size() - space_.interface_nodes().size() - space_.fixed_nodes().size();
   std::size_t mode_bytes = 0;
   for (std::size_t k = 0; k < modes_.space.size(); ++k)
     mode_bytes += (modes_.space[k].size() + modes_.fluid[k].size()) * sizeof(Vec3);
@@ -160,9 +158,8 @@ std::size_t SpaceMeshMover::memory_bytes() const {
 
 // ---------------------------------------------------------------- DirectIdwMover
 
-DirectIdwMover::DirectIdwMover(const mesh::Mesh& fluid, const BoundaryGroups& groups,
-                               BoundaryMotion& motion, double interface_exponent,
-                               double fixed_exponent, IdwWeighting weighting)
+DirectIdwMover::DirectIdwMover(const mesh::Mesh& fluid, const BoundaryGroups& groups, BoundaryMotion& motion,
+                               double interface_exponent, double fixed_exponent, IdwWeighting weighting)
     : fluid_(fluid),
       boundary_(classify_fluid_boundary(fluid, groups)),
       motion_(motion),
@@ -223,8 +220,7 @@ void DirectIdwMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
 }
 
 std::size_t DirectIdwMover::memory_bytes() const {
-  return (free_nodes_.size() + boundary_.interface_nodes.size() + boundary_.fixed_nodes.size()) *
-         sizeof(Index);
+  return (free_nodes_.size() + boundary_.interface_nodes.size() + boundary_.fixed_nodes.size()) * sizeof(Index);
 }
 
 }  // namespace shellflow::motion

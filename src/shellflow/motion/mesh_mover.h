@@ -54,9 +54,8 @@ class SpaceMeshMover final : public FluidMeshMover {
  public:
   /// `samples`/`sample_areas`: the IDW samples of the interface (the shell's nodes); empty:
   /// the fluid mesh's interface nodes with their lumped areas.
-  SpaceMeshMover(const mesh::Mesh& fluid, const mesh::Mesh& space, SpaceMeshOptions options,
-                 BoundaryMotion& motion, std::vector<Vec3> samples = {},
-                 std::vector<double> sample_areas = {});
+  SpaceMeshMover(const mesh::Mesh& fluid, const mesh::Mesh& space, SpaceMeshOptions options, BoundaryMotion& motion,
+                 std::vector<Vec3> samples = {}, std::vector<double> sample_areas = {});
   void update(double time, std::span<Vec3> x, std::span<Vec3> w) override;
   std::string name() const override { return "space_mesh"; }
   std::size_t memory_bytes() const override;

@@ -25,7 +25,8 @@ constexpr std::ptrdiff_t parallel_work_threshold = 100000;
 std::array<Vec3, kNodes> element_nodes(const mesh::Mesh& m, std::span<const Vec3> x, Index e) {
   std::array<Vec3, kNodes> X;
   const auto nodes = m.cells.element(e);
-  for (int a = 0; a < kNodes; ++a) X[static_cast<std::size_t>(a)] = x[static_cast<std::size_t>(nodes[static_cast<std::size_t>(a)])];
+  for (int a = 0; a < kNodes; ++a)
+    X[static_cast<std::size_t>(a)] = x[static_cast<std::size_t>(nodes[static_cast<std::size_t>(a)])];
   return X;
 }
 
@@ -110,7 +111,8 @@ std::vector<double> lumped_node_areas(std::span<const Vec3> nodes, const mesh::E
             t2 += dN[2 * a + 1] * nodes[static_cast<std::size_t>(v[static_cast<std::size_t>(a)])];
           }
           const double dA = t1.cross(t2).norm() * rule.weights[static_cast<std::size_t>(q)];
-          for (int a = 0; a < E::num_nodes; ++a) area[static_cast<std::size_t>(v[static_cast<std::size_t>(a)])] += N[a] * dA;
+          for (int a = 0; a < E::num_nodes; ++a)
+            area[static_cast<std::size_t>(v[static_cast<std::size_t>(a)])] += N[a] * dA;
         }
       }
     } else {
@@ -120,8 +122,7 @@ std::vector<double> lumped_node_areas(std::span<const Vec3> nodes, const mesh::E
   return area;
 }
 
-NodeClassification classify_nodes(const mesh::Mesh& m,
-                                  const std::vector<std::string>& interface_groups,
+NodeClassification classify_nodes(const mesh::Mesh& m, const std::vector<std::string>& interface_groups,
                                   const std::vector<std::string>& fixed_groups,
                                   const std::vector<std::string>& sliding_groups) {
   const auto n = static_cast<std::size_t>(m.num_nodes());
@@ -136,17 +137,16 @@ NodeClassification classify_nodes(const mesh::Mesh& m,
       for (Index node : facet) {
         auto& normals = c.sliding_normals[static_cast<std::size_t>(node)];
         c.classes[static_cast<std::size_t>(node)] = NodeClass::sliding;
-        if (std::abs(normals[0].dot(normal)) > 1.0 - 1e-8 ||
-            std::abs(normals[1].dot(normal)) > 1.0 - 1e-8)
-          continue;
+        if (std::abs(normals[0].dot(normal)) > 1.0 - 1e-8 || std::abs(normals[1].dot(normal)) > 1.0 - 1e-8) continue;
         if (normals[0].isZero()) {
           normals[0] = normal;
         } else if (normals[1].isZero()) {
           normals[1] = (normal - normal.dot(normals[0]) * normals[0]).normalized();
         } else {
-          throw_input_error("{}: sliding group '{}' is not planar near node {} (tag {}); sliding "
-                            "(symmetry) groups must be planes",
-                            m.source, name, node, m.node_tags[static_cast<std::size_t>(node)]);
+          throw_input_error(
+              "{}: sliding group '{}' is not planar near node {} (tag {}); sliding "
+              "(symmetry) groups must be planes",
+              m.source, name, node, m.node_tags[static_cast<std::size_t>(node)]);
         }
       }
     }
@@ -158,16 +158,16 @@ NodeClassification classify_nodes(const mesh::Mesh& m,
   return c;
 }
 
-SpaceMesh::SpaceMesh(const mesh::Mesh& space, SpaceMeshOptions options)
-    : mesh_(space), options_(std::move(options)) {
+SpaceMesh::SpaceMesh(const mesh::Mesh& space, SpaceMeshOptions options) : mesh_(space), options_(std::move(options)) {
   if (mesh_.cells.type != mesh::ElementType::tet20) {
-    throw_input_error("{}: the space mesh must be made of 20-node (cubic) tetrahedra, it holds "
-                      "{}s; mesh it with order 3",
-                      mesh_.source, mesh::element_info(mesh_.cells.type).name);
+    throw_input_error(
+        "{}: the space mesh must be made of 20-node (cubic) tetrahedra, it holds "
+        "{}s; mesh it with order 3",
+        mesh_.source, mesh::element_info(mesh_.cells.type).name);
   }
   const auto n = static_cast<std::size_t>(mesh_.num_nodes());
-  auto classification = classify_nodes(mesh_, options_.interface_groups, options_.fixed_groups,
-                                       options_.sliding_groups);
+  auto classification =
+      classify_nodes(mesh_, options_.interface_groups, options_.fixed_groups, options_.sliding_groups);
   classes_ = std::move(classification.classes);
   sliding_normals_ = std::move(classification.sliding_normals);
 
@@ -180,21 +180,28 @@ SpaceMesh::SpaceMesh(const mesh::Mesh& space, SpaceMeshOptions options)
 
   for (Index i = 0; i < mesh_.num_nodes(); ++i) {
     switch (classes_[static_cast<std::size_t>(i)]) {
-      case NodeClass::interface: interface_nodes_.push_back(i); break;
-      case NodeClass::fixed: fixed_nodes_.push_back(i); break;
+      case NodeClass::interface:
+        interface_nodes_.push_back(i);
+        break;
+      case NodeClass::fixed:
+        fixed_nodes_.push_back(i);
+        break;
       case NodeClass::sliding:
-      case NodeClass::interior: idw_nodes_.push_back(i); break;
+      case NodeClass::interior:
+        idw_nodes_.push_back(i);
+        break;
     }
   }
 
   reference_jacobian_.resize(static_cast<std::size_t>(mesh_.num_cells()));
   for (Index e = 0; e < mesh_.num_cells(); ++e) {
     const auto v = mesh_.cells.element(e);
-    const double volume = mesh::tet_signed_volume(mesh_.nodes[static_cast<std::size_t>(v[0])], mesh_.nodes[static_cast<std::size_t>(v[1])],
-                                                  mesh_.nodes[static_cast<std::size_t>(v[2])], mesh_.nodes[static_cast<std::size_t>(v[3])]);
+    const double volume = mesh::tet_signed_volume(
+        mesh_.nodes[static_cast<std::size_t>(v[0])], mesh_.nodes[static_cast<std::size_t>(v[1])],
+        mesh_.nodes[static_cast<std::size_t>(v[2])], mesh_.nodes[static_cast<std::size_t>(v[3])]);
     if (!(volume > 0.0)) {
-      throw_input_error("{}: space-mesh element {} is inverted (volume {:.3g} m^3); fix the mesh",
-                        mesh_.source, e, volume);
+      throw_input_error("{}: space-mesh element {} is inverted (volume {:.3g} m^3); fix the mesh", mesh_.source, e,
+                        volume);
     }
     reference_jacobian_[static_cast<std::size_t>(e)] = 6.0 * volume;
   }
@@ -202,12 +209,11 @@ SpaceMesh::SpaceMesh(const mesh::Mesh& space, SpaceMeshOptions options)
   velocity_.assign(n, Vec3::Zero());
 }
 
-void SpaceMesh::set_interface_samples(std::span<const Vec3> samples,
-                                      std::span<const double> interface_areas) {
+void SpaceMesh::set_interface_samples(std::span<const Vec3> samples, std::span<const double> interface_areas) {
   const bool by_area = options_.weighting == IdwWeighting::area;
   if (by_area && interface_areas.size() != samples.size()) {
-    throw Error(fmt::format("space mesh: {} interface areas given for {} samples",
-                            interface_areas.size(), samples.size()));
+    throw Error(
+        fmt::format("space mesh: {} interface areas given for {} samples", interface_areas.size(), samples.size()));
   }
   if (samples.empty()) throw Error("space mesh: no interface samples");
   num_samples_ = static_cast<Index>(samples.size());
@@ -225,8 +231,7 @@ void SpaceMesh::set_interface_samples(std::span<const Vec3> samples,
     for (std::size_t j = 0; j < samples.size(); ++j) {
       // A node on a sample (d = 0) would give inf/inf: weight 1 to that sample instead.
       const double d = (X - samples[j]).norm();
-      a[j] = d > 0.0 ? (by_area ? interface_areas[j] : 1.0) / std::pow(d, e1)
-                     : std::numeric_limits<double>::max();
+      a[j] = d > 0.0 ? (by_area ? interface_areas[j] : 1.0) / std::pow(d, e1) : std::numeric_limits<double>::max();
       sum += a[j];
     }
     for (std::size_t l = 0; l < fixed_nodes_.size(); ++l) {
@@ -304,16 +309,16 @@ LocationReport SpaceMesh::locate(std::span<const Vec3> fluid_nodes) {
 }
 
 void SpaceMesh::move(std::span<const Vec3> interface_u, std::span<const Vec3> interface_v,
-                     std::span<const Vec3> sample_u, std::span<const Vec3> sample_v,
-                     std::span<const Vec3> fixed_u) {
+                     std::span<const Vec3> sample_u, std::span<const Vec3> sample_v, std::span<const Vec3> fixed_u) {
   if (interface_u.size() != interface_nodes_.size() || interface_v.size() != interface_nodes_.size()) {
-    throw Error(fmt::format("space mesh: {} interface displacements for {} interface nodes",
-                            interface_u.size(), interface_nodes_.size()));
+    throw Error(fmt::format("space mesh: {} interface displacements for {} interface nodes", interface_u.size(),
+                            interface_nodes_.size()));
   }
   if (static_cast<Index>(sample_u.size()) != num_samples_ || sample_v.size() != sample_u.size()) {
-    throw Error(fmt::format("space mesh: {} sample displacements for {} samples (call "
-                            "set_interface_samples first)",
-                            sample_u.size(), num_samples_));
+    throw Error(
+        fmt::format("space mesh: {} sample displacements for {} samples (call "
+                    "set_interface_samples first)",
+                    sample_u.size(), num_samples_));
   }
   for (std::size_t i = 0; i < interface_nodes_.size(); ++i) {
     displacement_[static_cast<std::size_t>(interface_nodes_[i])] = interface_u[i];
@@ -350,8 +355,7 @@ void SpaceMesh::move(std::span<const Vec3> interface_u, std::span<const Vec3> in
 
 void SpaceMesh::set_node_motion(std::span<const Vec3> u, std::span<const Vec3> v) {
   if (u.size() != displacement_.size() || v.size() != velocity_.size()) {
-    throw Error(fmt::format("space mesh: {} node displacements for {} nodes", u.size(),
-                            displacement_.size()));
+    throw Error(fmt::format("space mesh: {} node displacements for {} nodes", u.size(), displacement_.size()));
   }
   std::copy(u.begin(), u.end(), displacement_.begin());
   std::copy(v.begin(), v.end(), velocity_.begin());
@@ -362,9 +366,8 @@ namespace {
 /// x = X + sum_k N_k u_k (initial empty: x = sum_k N_k u_k) and, with R = 6,
 /// w = sum_k N_k v_k, from records of R doubles per space-mesh node ((u) or (u, v)).
 template <int R>
-void interpolate_records(const double* records, const Index* connectivity,
-                         std::span<const NodeLocation> locations, std::span<const Vec3> initial,
-                         std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) {
+void interpolate_records(const double* records, const Index* connectivity, std::span<const NodeLocation> locations,
+                         std::span<const Vec3> initial, std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) {
   const auto n = static_cast<std::ptrdiff_t>(locations.size());
 #pragma omp parallel for schedule(static) if (n * kNodes * R > parallel_work_threshold)
   for (std::ptrdiff_t p = 0; p < n; ++p) {
@@ -440,8 +443,7 @@ const std::vector<Vec3>& jacobian_check_points() {
   return points;
 }
 
-std::pair<double, Index> min_jacobian(const mesh::Mesh& m, std::span<const Vec3> x,
-                                      std::span<const double> reference) {
+std::pair<double, Index> min_jacobian(const mesh::Mesh& m, std::span<const Vec3> x, std::span<const double> reference) {
   double worst = std::numeric_limits<double>::infinity();
   Index worst_element = -1;
   for (Index e = 0; e < m.num_cells(); ++e) {

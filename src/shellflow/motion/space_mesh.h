@@ -28,8 +28,7 @@ struct NodeClassification {
   std::vector<NodeClass> classes;
   std::vector<std::array<Vec3, 2>> sliding_normals;
 };
-NodeClassification classify_nodes(const mesh::Mesh& m,
-                                  const std::vector<std::string>& interface_groups,
+NodeClassification classify_nodes(const mesh::Mesh& m, const std::vector<std::string>& interface_groups,
                                   const std::vector<std::string>& fixed_groups,
                                   const std::vector<std::string>& sliding_groups);
 
@@ -94,9 +93,8 @@ class SpaceMesh {
   /// the order of interface_nodes()), fixed nodes `fixed_u` (empty: zero), interior and
   /// sliding nodes the normalised IDW sums of the sample motion (eq. 33), sliding nodes then
   /// lose the component normal to their plane.
-  void move(std::span<const Vec3> interface_u, std::span<const Vec3> interface_v,
-            std::span<const Vec3> sample_u, std::span<const Vec3> sample_v,
-            std::span<const Vec3> fixed_u = {});
+  void move(std::span<const Vec3> interface_u, std::span<const Vec3> interface_v, std::span<const Vec3> sample_u,
+            std::span<const Vec3> sample_v, std::span<const Vec3> fixed_u = {});
 
   /// Sets the motion of every space-mesh node directly (bypassing the IDW), e.g. from
   /// another distribution rule or in tests.
@@ -129,9 +127,9 @@ class SpaceMesh {
   SpaceMeshOptions options_;
   std::vector<NodeClass> classes_;
   std::vector<Index> interface_nodes_, fixed_nodes_, idw_nodes_;  ///< idw: interior + sliding
-  std::vector<std::array<Vec3, 2>> sliding_normals_;  ///< per node (zero vectors if unused)
-  std::vector<double> reference_jacobian_;           ///< per element, straight-sided det J
-  std::vector<double> fixed_areas_;                  ///< per fixed node (area weighting)
+  std::vector<std::array<Vec3, 2>> sliding_normals_;              ///< per node (zero vectors if unused)
+  std::vector<double> reference_jacobian_;                        ///< per element, straight-sided det J
+  std::vector<double> fixed_areas_;                               ///< per fixed node (area weighting)
   // Normalised weights, row per IDW node: samples, then fixed nodes.
   Index num_samples_ = 0;
   std::vector<double> sample_weights_, fixed_weights_;

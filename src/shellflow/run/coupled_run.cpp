@@ -117,8 +117,9 @@ void run_coupled(const RunContext& run) {
   if (!run.c.probes.empty())
     run.plots.push_back({"plot_flutter.py", {(run.outdir / "probes.csv").string(), "-o", run.outdir.string()}});
   if (outputs.quality)
-    run.plots.push_back({"plot_probes.py", {(run.outdir / "mesh_quality.csv").string(), "-o",
-                                            (run.outdir / "mesh_quality.png").string()}});
+    run.plots.push_back(
+        {"plot_probes.py",
+         {(run.outdir / "mesh_quality.csv").string(), "-o", (run.outdir / "mesh_quality.png").string()}});
 }
 
 }  // namespace shellflow::run

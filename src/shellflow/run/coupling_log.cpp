@@ -30,21 +30,24 @@ double CouplingLog::step(coupling::PartitionedSolver& driver, double dt, long st
   worst_balance_ = std::max(worst_balance_, balance);
   csv_.append(r.time, std::vector<double>{double(r.newton_iterations), double(r.flow.substeps), r.shell_force.x(),
                                           r.shell_force.y(), r.shell_force.z(), ff.x(), ff.y(), ff.z(), balance});
-  spdlog::debug("step {} t = {:.6g} s: {} Newton iterations, {} fluid sub-steps, shell force ({:.4g}, {:.4g}, {:.4g}) "
-                "N, force balance {:.2e}",
-                step, r.time, r.newton_iterations, r.flow.substeps, r.shell_force.x(), r.shell_force.y(),
-                r.shell_force.z(), balance);
+  spdlog::debug(
+      "step {} t = {:.6g} s: {} Newton iterations, {} fluid sub-steps, shell force ({:.4g}, {:.4g}, {:.4g}) "
+      "N, force balance {:.2e}",
+      step, r.time, r.newton_iterations, r.flow.substeps, r.shell_force.x(), r.shell_force.y(), r.shell_force.z(),
+      balance);
   return r.time;
 }
 
 void CouplingLog::summary(double time, double output_seconds) const {
-  spdlog::info("coupled run: {} shell steps to t = {:.6g} s, {} Newton iterations, {} fluid sub-steps; largest force "
-               "imbalance {:.2e}",
-               steps_, time, newton_total_, substeps_total_, worst_balance_);
-  spdlog::info("wall time {:.2f} s: setup {:.2f} s, shell {:.2f} s, fluid mesh motion {:.2f} s, flow {:.2f} s, load "
-               "transfer {:.2f} s, output {:.2f} s",
-               setup_seconds_ + steps_seconds_ + output_seconds, setup_seconds_, shell_seconds_, mesh_seconds_,
-               flow_seconds_, transfer_seconds_, output_seconds);
+  spdlog::info(
+      "coupled run: {} shell steps to t = {:.6g} s, {} Newton iterations, {} fluid sub-steps; largest force "
+      "imbalance {:.2e}",
+      steps_, time, newton_total_, substeps_total_, worst_balance_);
+  spdlog::info(
+      "wall time {:.2f} s: setup {:.2f} s, shell {:.2f} s, fluid mesh motion {:.2f} s, flow {:.2f} s, load "
+      "transfer {:.2f} s, output {:.2f} s",
+      setup_seconds_ + steps_seconds_ + output_seconds, setup_seconds_, shell_seconds_, mesh_seconds_, flow_seconds_,
+      transfer_seconds_, output_seconds);
 }
 
 void CouplingLog::save(ArchiveWriter& out) const {

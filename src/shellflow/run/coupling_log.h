@@ -27,8 +27,8 @@ class CouplingLog {
   io::ProbeWriter csv_;
   long steps_ = 0, newton_total_ = 0, substeps_total_ = 0;
   double worst_balance_ = 0.0;
-  double setup_seconds_ = 0.0, steps_seconds_ = 0.0, shell_seconds_ = 0.0, mesh_seconds_ = 0.0,
-         flow_seconds_ = 0.0, transfer_seconds_ = 0.0;
+  double setup_seconds_ = 0.0, steps_seconds_ = 0.0, shell_seconds_ = 0.0, mesh_seconds_ = 0.0, flow_seconds_ = 0.0,
+         transfer_seconds_ = 0.0;
 };
 
 }  // namespace shellflow::run

@@ -86,9 +86,10 @@ void run_fluid(const RunContext& run) {
   spdlog::info("steady flow: {} local steps, density rate {:.3e} ({:.2e} of the first step's)", step,
                model.density_rate(), model.density_rate() / std::max(first_density_rate, 1e-300));
   if (analysis.residual_drop && !converged)
-    spdlog::warn("steady flow: the density rate did not drop to {:g} of its first value in {} steps; raise "
-                 "analysis.steps (or check the case)",
-                 *analysis.residual_drop, analysis.steps);
+    spdlog::warn(
+        "steady flow: the density rate did not drop to {:g} of its first value in {} steps; raise "
+        "analysis.steps (or check the case)",
+        *analysis.residual_drop, analysis.steps);
 }
 
 }  // namespace shellflow::run

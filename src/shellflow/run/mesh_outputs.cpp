@@ -32,18 +32,34 @@ constexpr std::array<FluidQuantityName, 8> kFluidQuantities{{{FluidQuantity::den
 
 /// One quantity of the flow at one node, from its state: the one conversion behind the
 /// probes, the frames and the initial state.
-void fluid_value(FluidQuantity q, const fluid::IdealGas& gas, const fluid::Primitive& p,
-                 const fluid::Conservative& u, const Vec3& w, double* out) {
+void fluid_value(FluidQuantity q, const fluid::IdealGas& gas, const fluid::Primitive& p, const fluid::Conservative& u,
+                 const Vec3& w, double* out) {
   const auto put = [&](const Vec3& v) { std::copy(v.data(), v.data() + 3, out); };
   switch (q) {
-    case FluidQuantity::density: *out = p.rho; return;
-    case FluidQuantity::pressure: *out = p.pressure; return;
-    case FluidQuantity::temperature: *out = gas.temperature(p.rho, p.pressure); return;
-    case FluidQuantity::mach: *out = p.velocity.norm() / gas.sound_speed(p.rho, p.pressure); return;
-    case FluidQuantity::energy: *out = u.energy; return;
-    case FluidQuantity::velocity: put(p.velocity); return;
-    case FluidQuantity::momentum: put(u.momentum); return;
-    case FluidQuantity::mesh_velocity: put(w); return;
+    case FluidQuantity::density:
+      *out = p.rho;
+      return;
+    case FluidQuantity::pressure:
+      *out = p.pressure;
+      return;
+    case FluidQuantity::temperature:
+      *out = gas.temperature(p.rho, p.pressure);
+      return;
+    case FluidQuantity::mach:
+      *out = p.velocity.norm() / gas.sound_speed(p.rho, p.pressure);
+      return;
+    case FluidQuantity::energy:
+      *out = u.energy;
+      return;
+    case FluidQuantity::velocity:
+      put(p.velocity);
+      return;
+    case FluidQuantity::momentum:
+      put(u.momentum);
+      return;
+    case FluidQuantity::mesh_velocity:
+      put(w);
+      return;
   }
 }
 
@@ -129,9 +145,8 @@ InitialOutput::InitialOutput(const io::Case& c, const mesh::Mesh& mesh, const st
     const fluid::Conservative u = fluid::to_conservative(gas, p);
     for (const auto& f : kFluidQuantities) {
       names_.emplace_back(f.name, f.components);
-      values_.push_back(whole_field(n, f.components, [&](Index, double* out) {
-        fluid_value(f.q, gas, p, u, Vec3::Zero(), out);
-      }));
+      values_.push_back(
+          whole_field(n, f.components, [&](Index, double* out) { fluid_value(f.q, gas, p, u, Vec3::Zero(), out); }));
     }
   } else if (mesh.name == "space") {
     for (auto q : {"displacement", "velocity"}) constant(q, 3, 0.0);
@@ -140,7 +155,8 @@ InitialOutput::InitialOutput(const io::Case& c, const mesh::Mesh& mesh, const st
 
 std::vector<io::FieldView> InitialOutput::views() const {
   std::vector<io::FieldView> v;
-  for (std::size_t k = 0; k < names_.size(); ++k) v.push_back({key(), names_[k].first, names_[k].second, values_[k], {}});
+  for (std::size_t k = 0; k < names_.size(); ++k)
+    v.push_back({key(), names_[k].first, names_[k].second, values_[k], {}});
   return v;
 }
 
@@ -158,11 +174,17 @@ ShellOutput::ShellOutput(const shell::ShellModel& model, const std::filesystem::
 
 std::vector<io::FieldView> ShellOutput::views() const {
   const auto dof = [](Index node, int i) { return shell::dofs_per_node * node + i; };
-  return {{"shell", "displacement", 3, {},
+  return {{"shell",
+           "displacement",
+           3,
+           {},
            [this, dof](Index n, double* out) {
              for (int i = 0; i < 3; ++i) out[i] = u_()[dof(n, i)];
            }},
-          {"shell", "velocity", 3, {},
+          {"shell",
+           "velocity",
+           3,
+           {},
            [this, dof](Index n, double* out) {
              const Eigen::VectorXd* v = v_();
              for (int i = 0; i < 3; ++i) out[i] = v ? (*v)[dof(n, i)] : 0.0;

@@ -8,7 +8,6 @@
 // mesh's displacement): the probes read their few nodes, and the whole field is built only
 // when a frame is written.
 #include <Eigen/Core>
-
 #include <filesystem>
 #include <functional>
 #include <span>
@@ -111,7 +110,9 @@ class FluidMeshOutput final : public MeshOutput {
   void write(long step, double t) override;
 
  private:
-  std::size_t node(Index i) const { return new_index_.empty() ? std::size_t(i) : std::size_t(new_index_[std::size_t(i)]); }
+  std::size_t node(Index i) const {
+    return new_index_.empty() ? std::size_t(i) : std::size_t(new_index_[std::size_t(i)]);
+  }
   std::span<const Index> new_index_;
   std::span<const Vec3> reference_;
   Nodal positions_, velocity_;

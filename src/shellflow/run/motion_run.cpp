@@ -73,12 +73,14 @@ void run_mesh_motion(const RunContext& run) {
     try {
       advance(0);
     } catch (const SolverError& e) {
-      throw SolverError(fmt::format("{} (step 0); nothing but the initial mesh is in {}", e.what(), run.outdir.string()));
+      throw SolverError(
+          fmt::format("{} (step 0); nothing but the initial mesh is in {}", e.what(), run.outdir.string()));
     }
   };
   const long last = step_in_time(run.control, run.recorder, stepping);
-  run.plots.push_back({"plot_probes.py", {(run.outdir / "motion_quality.csv").string(), "--x", "A1", "-o",
-                                          (run.outdir / "motion_quality.png").string()}});
+  run.plots.push_back({"plot_probes.py",
+                       {(run.outdir / "motion_quality.csv").string(), "--x", "A1", "-o",
+                        (run.outdir / "motion_quality.png").string()}});
   if (!run.control.stopped())
     spdlog::info("mesh motion: {} steps, fluid mesh valid throughout; quality history in {}", last,
                  (run.outdir / "motion_quality.csv").string());

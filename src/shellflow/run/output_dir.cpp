@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-
 #include <algorithm>
 #include <array>
 #include <cctype>
@@ -23,8 +22,8 @@ std::filesystem::path prepare_output_dir(const io::Case& c, const std::optional<
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) {
-    throw Error(fmt::format("{}: cannot create the output directory ({}); choose another with -o",
-                            dir.string(), ec.message()));
+    throw Error(
+        fmt::format("{}: cannot create the output directory ({}); choose another with -o", dir.string(), ec.message()));
   }
   return dir;
 }
@@ -33,11 +32,10 @@ namespace {
 
 // The fixed names of run output (docs/output.md); the numbered ones are matched below.
 constexpr std::array<std::string_view, 17> kRunOutputNames = {
-    "fluid.pvd",     "shell.pvd",        "space.pvd",          "modes.pvd",
-    "shell_modes.vtu", "modes.csv",      "modes.json",         "probes.csv",
-    "probes.png",    "coupling.csv",     "mesh_quality.csv",   "mesh_quality.png",
-    "motion_quality.csv", "motion_quality.png", "response.json", "flutter.png",
-    "flutter_growth.png",
+    "fluid.pvd",        "shell.pvd",          "space.pvd",          "modes.pvd",          "shell_modes.vtu",
+    "modes.csv",        "modes.json",         "probes.csv",         "probes.png",         "coupling.csv",
+    "mesh_quality.csv", "mesh_quality.png",   "motion_quality.csv", "motion_quality.png", "response.json",
+    "flutter.png",      "flutter_growth.png",
 };
 
 bool all_digits(std::string_view s, std::size_t at_least) {
@@ -71,8 +69,7 @@ std::size_t remove_previous_run_output(const std::filesystem::path& dir) {
   std::vector<fs::path> files;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     // symlink_status: a link named like an output file is not followed, and not removed.
-    if (it->symlink_status(ec).type() == fs::file_type::regular &&
-        is_run_output_name(it->path().filename().string()))
+    if (it->symlink_status(ec).type() == fs::file_type::regular && is_run_output_name(it->path().filename().string()))
       files.push_back(it->path());
   }
   if (ec) throw Error(fmt::format("{}: cannot list the output directory ({})", dir.string(), ec.message()));
@@ -80,13 +77,17 @@ std::size_t remove_previous_run_output(const std::filesystem::path& dir) {
     if (fs::remove(f, ec)) {
       ++removed;
     } else if (ec) {
-      throw Error(fmt::format("{}: cannot remove the output of an earlier run ({}); remove it or choose "
-                              "another directory with -o", f.string(), ec.message()));
+      throw Error(
+          fmt::format("{}: cannot remove the output of an earlier run ({}); remove it or choose "
+                      "another directory with -o",
+                      f.string(), ec.message()));
     }
   }
   if (removed > 0)
-    spdlog::info("{}: removed {} file(s) of an earlier run (<mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv, ...); "
-                 "other files are kept", dir.string(), removed);
+    spdlog::info(
+        "{}: removed {} file(s) of an earlier run (<mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv, ...); "
+        "other files are kept",
+        dir.string(), removed);
   return removed;
 }
 
@@ -98,7 +99,8 @@ std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::file
   for (const io::Probe& p : c.probes) {
     if (!p.reference) continue;
     const auto& r = *p.reference;
-    args.insert(args.end(), {"--reference", p.name, r.file.string(), r.column, fmt::format("{:.17g}", r.scale), r.label});
+    args.insert(args.end(),
+                {"--reference", p.name, r.file.string(), r.column, fmt::format("{:.17g}", r.scale), r.label});
   }
   return args;
 }

@@ -20,8 +20,9 @@ void ResponseOutput::sample(double t, std::span<const double> probes) {
 
 void ResponseOutput::write() const {
   if (!index_) {
-    spdlog::info("no response analysis: the case has no probe of shell.displacement; name the probe to analyse in "
-                 "coupling.response.probe");
+    spdlog::info(
+        "no response analysis: the case has no probe of shell.displacement; name the probe to analyse in "
+        "coupling.response.probe");
     return;
   }
   const io::ResponseSection& rs = case_.coupling->response;
@@ -30,9 +31,10 @@ void ResponseOutput::write() const {
       coupling::analyse_response(t_, w_, {.t_start = rs.t_start, .t_end = rs.t_end, .lco_cycles = rs.lco_cycles});
   std::ofstream(outdir_ / "response.json") << coupling::response_to_json(a, name) << '\n';
   if (a.extrema < 3) {
-    spdlog::info("response of {} on [{:.6g}, {:.6g}] s: {} extrema, too few for a growth rate and a frequency (3 "
-                 "needed)",
-                 name, a.t_start, a.t_end, a.extrema);
+    spdlog::info(
+        "response of {} on [{:.6g}, {:.6g}] s: {} extrema, too few for a growth rate and a frequency (3 "
+        "needed)",
+        name, a.t_start, a.t_end, a.extrema);
     return;
   }
   spdlog::info("response of {} on [{:.6g}, {:.6g}] s ({} extrema): growth rate {:.4g} ± {:.2g} 1/s, {:.5g} Hz; {}",

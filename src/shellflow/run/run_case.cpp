@@ -20,9 +20,10 @@ std::filesystem::path output_folder(const io::Case& c, const RunOptions& options
   if (outdir.empty()) outdir = ".";
   if (options.output_dir &&
       std::filesystem::weakly_canonical(*options.output_dir) != std::filesystem::weakly_canonical(outdir))
-    throw Error(fmt::format("--restart {} continues the run in {}; drop -o {} (a restart writes into the folder of its "
-                            "checkpoint)",
-                            options.stop.restart->string(), outdir.string(), options.output_dir->string()));
+    throw Error(
+        fmt::format("--restart {} continues the run in {}; drop -o {} (a restart writes into the folder of its "
+                    "checkpoint)",
+                    options.stop.restart->string(), outdir.string(), options.output_dir->string()));
   return outdir;
 }
 
@@ -40,8 +41,9 @@ void run_kind(const RunContext& run) {
   } else {
     run.control.not_time_stepping("a case without an analysis");
     run.recorder.record(0, 0.0, Record::probes_and_fields);
-    spdlog::warn("nothing to integrate: the case has no 'motion', 'shell.analysis' or 'fluid.analysis' (or a "
-                 "'coupling' section); wrote the initial state (t = 0) only");
+    spdlog::warn(
+        "nothing to integrate: the case has no 'motion', 'shell.analysis' or 'fluid.analysis' (or a "
+        "'coupling' section); wrote the initial state (t = 0) only");
   }
 }
 

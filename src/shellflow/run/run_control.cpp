@@ -11,9 +11,9 @@
 #include <set>
 
 #include "shellflow/core/error.h"
-#include "shellflow/run/output_dir.h"
 #include "shellflow/core/version.h"
 #include "shellflow/fluid/residual.h"
+#include "shellflow/run/output_dir.h"
 
 namespace shellflow::run {
 namespace fs = std::filesystem;
@@ -28,7 +28,8 @@ extern "C" void on_stop_signal(int sig) {
   if (g_stop_signal != 0) {
     // A second one within a second is the same request arriving twice (a terminal's Ctrl-C
     // reaches a study's runs and the study passes its own on); later: stop now.
-    const double since = double(now.tv_sec - g_first_signal.tv_sec) + 1e-9 * double(now.tv_nsec - g_first_signal.tv_nsec);
+    const double since =
+        double(now.tv_sec - g_first_signal.tv_sec) + 1e-9 * double(now.tv_nsec - g_first_signal.tv_nsec);
     if (since < 1.0) return;
     std::signal(sig, SIG_DFL);
     std::raise(sig);
@@ -91,26 +92,34 @@ io::Checkpoint load_restart(const fs::path& path, const io::Case& c) {
   return checkpoint;
 }
 
-RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options,
-                       std::optional<io::Checkpoint> restart, std::vector<io::SectionDigest> digests)
-    : case_(c), outdir_(std::move(outdir)), options_(std::move(options)), restart_(std::move(restart)),
-      digests_(std::move(digests)), every_(c.output.checkpoint_every), start_(process_start()) {
+RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options, std::optional<io::Checkpoint> restart,
+                       std::vector<io::SectionDigest> digests)
+    : case_(c),
+      outdir_(std::move(outdir)),
+      options_(std::move(options)),
+      restart_(std::move(restart)),
+      digests_(std::move(digests)),
+      every_(c.output.checkpoint_every),
+      start_(process_start()) {
   if (restart_) {
     const io::CheckpointHeader now = current_header(c, digests_);
     if (const std::string why = io::checkpoint_mismatch(*restart_, now); !why.empty()) throw Error(why);
     const io::CheckpointHeader& then = restart_->header;
     if (then.build != now.build)
-      spdlog::warn("{}: written by another build of shellflow {}; the continuation may differ from an "
-                   "uninterrupted run in the last bits",
-                   restart_->file.string(), then.program_version);
+      spdlog::warn(
+          "{}: written by another build of shellflow {}; the continuation may differ from an "
+          "uninterrupted run in the last bits",
+          restart_->file.string(), then.program_version);
     if (then.threads != now.threads)
-      spdlog::warn("{}: written with {} OpenMP thread(s), this run has {}; the flow may differ from an "
-                   "uninterrupted run in the last bits (set OMP_NUM_THREADS={})",
-                   restart_->file.string(), then.threads, now.threads, then.threads);
+      spdlog::warn(
+          "{}: written with {} OpenMP thread(s), this run has {}; the flow may differ from an "
+          "uninterrupted run in the last bits (set OMP_NUM_THREADS={})",
+          restart_->file.string(), then.threads, now.threads, then.threads);
     if (then.simd != now.simd)
-      spdlog::warn("{}: written with the {} element pass, this run uses {}; the flow may differ from an "
-                   "uninterrupted run in the last bits (set SHELLFLOW_SIMD={})",
-                   restart_->file.string(), then.simd, now.simd, then.simd);
+      spdlog::warn(
+          "{}: written with the {} element pass, this run uses {}; the flow may differ from an "
+          "uninterrupted run in the last bits (set SHELLFLOW_SIMD={})",
+          restart_->file.string(), then.simd, now.simd, then.simd);
     spdlog::info("restart from {}: step {}, t = {:.6g} s", restart_->file.string(), then.step, then.time);
   }
 }
@@ -137,8 +146,7 @@ void RunControl::not_time_stepping(std::string_view what) const {
     throw Error(fmt::format("{}: {} is not checkpointed (it does not step in time); run it without --restart",
                             restart_->file.string(), what));
   if (options_.stop_after || options_.stop_at_wall || every_ > 0)
-    spdlog::warn("{} is not checkpointed: --stop-after, --stop-at-wall and output.checkpoint_every are ignored",
-                 what);
+    spdlog::warn("{} is not checkpointed: --stop-after, --stop-at-wall and output.checkpoint_every are ignored", what);
 }
 
 void RunControl::set_state(std::string kind, std::function<void(ArchiveWriter&)> save,
@@ -222,10 +230,11 @@ std::string RunControl::stopped_message(const fs::path& case_file) const {
                     : options_.stop_after && *stopped_step_ - first_step() + 1 >= *options_.stop_after
                         ? "after --stop-after steps"
                         : "at --stop-at-wall";
-  return fmt::format("stopped {} at step {} (t = {:.6g} s) with checkpoint {}; continue with: shellflow run {} "
-                     "--restart {}",
-                     why, *stopped_step_, stopped_time_, last_file_ ? last_file_->string() : "(none)",
-                     case_file.string(), outdir_.string());
+  return fmt::format(
+      "stopped {} at step {} (t = {:.6g} s) with checkpoint {}; continue with: shellflow run {} "
+      "--restart {}",
+      why, *stopped_step_, stopped_time_, last_file_ ? last_file_->string() : "(none)", case_file.string(),
+      outdir_.string());
 }
 
 void RunControl::log_summary(double run_seconds) const {

@@ -32,7 +32,7 @@ inline constexpr int kStoppedExitCode = 75;
 
 /// The command line's stop and restart options.
 struct StopOptions {
-  std::optional<long> stop_after;     ///< steps of this invocation, then a checkpoint and exit
+  std::optional<long> stop_after;      ///< steps of this invocation, then a checkpoint and exit
   std::optional<double> stop_at_wall;  ///< wall seconds since the program started, then the same at the next step
   std::optional<std::filesystem::path> restart;  ///< OUTDIR or OUTDIR/checkpoint_NNNNNN.ckpt
 };
@@ -104,7 +104,8 @@ class RunControl {
   std::uint64_t bytes_ = 0;
   std::optional<std::filesystem::path> last_file_;
   bool armed_ = false;
-  struct sigaction old_int_{}, old_term_{};
+  struct sigaction old_int_ {
+  }, old_term_{};
 };
 
 /// The time the program started (main calls it first): --stop-at-wall counts from it.

@@ -49,8 +49,9 @@ void run_static(const RunContext& run, const shell::ShellModel& model) {
           throw_at(analysis.where, fmt::format("controlled node {} does not exist: the shell mesh has nodes 0 to {}",
                                                control.node, model.num_nodes() - 1));
         long levels = 0;
-        solver.run_displacement_control(control, analysis.steps, analysis.final_displacement,
-                                        [&](const shell::LoadStep& level) { on_level(level, ++levels == analysis.steps); });
+        solver.run_displacement_control(
+            control, analysis.steps, analysis.final_displacement,
+            [&](const shell::LoadStep& level) { on_level(level, ++levels == analysis.steps); });
         break;
       }
       case io::PathControl::arc_length: {
@@ -63,9 +64,10 @@ void run_static(const RunContext& run, const shell::ShellModel& model) {
           return !done;
         });
         if (levels.empty() || levels.back().load_factor < analysis.final_load_factor)
-          spdlog::warn("arc length: load factor {:.6g} after {} steps, short of the final load factor {}; raise "
-                       "analysis.steps",
-                       levels.empty() ? 0.0 : levels.back().load_factor, levels.size(), analysis.final_load_factor);
+          spdlog::warn(
+              "arc length: load factor {:.6g} after {} steps, short of the final load factor {}; raise "
+              "analysis.steps",
+              levels.empty() ? 0.0 : levels.back().load_factor, levels.size(), analysis.final_load_factor);
         break;
       }
     }
@@ -115,8 +117,8 @@ void run_dynamic(const RunContext& run, const shell::ShellModel& model) {
     newton_total = in.get<long>();
   };
   const long last = step_in_time(run.control, run.recorder, stepping);
-  spdlog::info("shell dynamics: {} steps to t = {:.6g} s, {} Newton iterations, {} factorisations", last,
-               solver.time(), newton_total, solver.matrix_factorizations());
+  spdlog::info("shell dynamics: {} steps to t = {:.6g} s, {} Newton iterations, {} factorisations", last, solver.time(),
+               newton_total, solver.matrix_factorizations());
 }
 
 }  // namespace
@@ -134,7 +136,9 @@ void run_shell(const RunContext& run) {
       run.recorder.record(0, 0.0, Record::probes_and_fields);  // the shell at rest, like every run
       write_modes(run.c, model, run.outdir);
       return;
-    case io::ShellAnalysisType::dynamic: run_dynamic(run, model); return;
+    case io::ShellAnalysisType::dynamic:
+      run_dynamic(run, model);
+      return;
   }
 }
 

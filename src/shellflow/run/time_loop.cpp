@@ -35,8 +35,8 @@ long run_time_loop(const TimeLoop& loop, const std::function<double(long)>& adva
     progress.finish();
     // The solvers keep their last valid states (those of step - 1): write them before reporting.
     if (!due(step - 1)) record(step - 1, Record::fields);
-    throw SolverError(fmt::format("{} (step {}); the last valid state (t = {:.6g} s) is in {}", e.what(), step,
-                                  time(), loop.outdir.string()));
+    throw SolverError(fmt::format("{} (step {}); the last valid state (t = {:.6g} s) is in {}", e.what(), step, time(),
+                                  loop.outdir.string()));
   }
   progress.finish();
   return control && control->stopped() ? step : step - 1;

@@ -1,9 +1,9 @@
 #include "shellflow/setup/coupled_setup.h"
 
-#include <cmath>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <cmath>
 
 #include "shellflow/core/error.h"
 #include "shellflow/coupling/interface_maps.h"
@@ -20,9 +20,10 @@ namespace {
 double uniform_sign(std::span<const double> sign, const io::CouplingSection& k) {
   for (const double s : sign)
     if (s != sign.front())
-      throw_at(k.where, "the shell's normals (its directors) point into the flow at some load points "
-                        "and away from it at others; the wetted face must be one face of the whole "
-                        "shell mesh (orient the shell's triangles consistently)");
+      throw_at(k.where,
+               "the shell's normals (its directors) point into the flow at some load points "
+               "and away from it at others; the wetted face must be one face of the whole "
+               "shell mesh (orient the shell's triangles consistently)");
   return sign.empty() ? 1.0 : sign.front();
 }
 
@@ -66,17 +67,18 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
     } catch (const InputError& e) {
       throw_at(k.where, e.what());
     }
-    spdlog::info("coupling maps: {} fluid wall nodes -> shell (largest gap {:.2e} m, snapped), {} "
-                 "shell load points -> fluid wall (largest gap {:.2e} m)",
-                 wall.nodes.size(), wall.gap.max_gap, loads.sign.size(), loads.gap.max_gap);
+    spdlog::info(
+        "coupling maps: {} fluid wall nodes -> shell (largest gap {:.2e} m, snapped), {} "
+        "shell load points -> fluid wall (largest gap {:.2e} m)",
+        wall.nodes.size(), wall.gap.max_gap, loads.sign.size(), loads.gap.max_gap);
     std::vector<double> areas = motion::lumped_node_areas(meshes.shell->nodes, meshes.shell->cells);
-    auto mover = std::make_unique<motion::SpaceMeshMover>(fluid_mesh, *meshes.space,
-                                                          space_mesh_options(*c.motion), *s.motion,
-                                                          meshes.shell->nodes, std::move(areas));
+    auto mover = std::make_unique<motion::SpaceMeshMover>(fluid_mesh, *meshes.space, space_mesh_options(*c.motion),
+                                                          *s.motion, meshes.shell->nodes, std::move(areas));
     const auto& r = mover->location_report();
-    spdlog::info("space mesh: located {} fluid nodes (max residual {:.2e} m), {} projected from "
-                 "outside (max gap {:.2e} m)",
-                 r.located, r.max_residual, r.projected, r.max_gap);
+    spdlog::info(
+        "space mesh: located {} fluid nodes (max residual {:.2e} m), {} projected from "
+        "outside (max gap {:.2e} m)",
+        r.located, r.max_residual, r.projected, r.max_gap);
     std::unique_ptr<fluid::FluidModel> flow;
     coupling::FlowModelOptions options;
     options.substeps = k.substeps;
@@ -94,10 +96,11 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
             bc.kind != fluid::BoundaryKind::no_slip_wall)
           throw_at(k.where, fmt::format("coupling.fluid_group '{}' has the fluid boundary condition "
                                         "'{}'; the wet boundary must be a slip_wall (Euler) or a "
-                                        "no_slip_wall", k.fluid_group, fluid::to_string(bc.kind)));
+                                        "no_slip_wall",
+                                        k.fluid_group, fluid::to_string(bc.kind)));
     }
-    auto flow_model = std::make_unique<coupling::FlowModel>(fluid_mesh, std::move(flow), std::move(mover),
-                                                            *s.motion, std::move(wall), std::move(loads), options);
+    auto flow_model = std::make_unique<coupling::FlowModel>(fluid_mesh, std::move(flow), std::move(mover), *s.motion,
+                                                            std::move(wall), std::move(loads), options);
     s.flow = flow_model.get();
     s.aerodynamics = std::move(flow_model);
   }
@@ -126,7 +129,7 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
   coupling::PartitionedOptions options;
   options.monolithic = monolithic;
   options.predictor = k.predictor == io::CouplingSection::Predictor::linear ? coupling::LoadPredictor::linear
-                                                                           : coupling::LoadPredictor::none;
+                                                                            : coupling::LoadPredictor::none;
   s.driver = std::make_unique<coupling::PartitionedSolver>(model, *s.solver, *s.aerodynamics, *s.motion, options);
   return s;
 }
@@ -146,7 +149,8 @@ coupling::FlutterSetting flutter_setting(const io::Case& c, const shell::ShellMo
   coupling::FlutterSetting s;
   s.length = coupling::panel_length(model, c.fluid->free_stream.direction);
   const auto& m = c.shell->material;
-  s.bending_stiffness = m.young_modulus * std::pow(c.shell->thickness, 3) / (12.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
+  s.bending_stiffness =
+      m.young_modulus * std::pow(c.shell->thickness, 3) / (12.0 * (1.0 - m.poisson_ratio * m.poisson_ratio));
   s.density = c.fluid->free_stream.density;
   s.pressure = c.fluid->free_stream.pressure;
   s.gamma = c.fluid->gas.gamma;

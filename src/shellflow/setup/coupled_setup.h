@@ -24,8 +24,8 @@ struct CoupledSystem {
   std::vector<Index> new_index;            ///< case fluid node -> solver node
   std::unique_ptr<coupling::ShellStepMotion> motion;
   std::unique_ptr<coupling::AerodynamicModel> aerodynamics;
-  coupling::FlowModel* flow = nullptr;     ///< the aerodynamic model when it is a FlowModel
-  coupling::PistonLoads* piston = nullptr; ///< ... when it is piston theory
+  coupling::FlowModel* flow = nullptr;                   ///< the aerodynamic model when it is a FlowModel
+  coupling::PistonLoads* piston = nullptr;               ///< ... when it is piston theory
   shell::SparseMatrix piston_stiffness, piston_damping;  ///< monolithic scheme
   std::unique_ptr<coupling::PartitionedSolver> driver;
   double reference_pressure = 0.0;  ///< p_ref of the exchanged pressure rise (free stream)

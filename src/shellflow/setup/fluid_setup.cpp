@@ -10,12 +10,18 @@ namespace {
 
 fluid::BoundaryKind kind_of(const io::FluidBoundary& b) {
   switch (b.type) {
-    case io::FluidBoundaryType::supersonic_inflow: return fluid::BoundaryKind::supersonic_inflow;
-    case io::FluidBoundaryType::supersonic_outflow: return fluid::BoundaryKind::supersonic_outflow;
-    case io::FluidBoundaryType::far_field: return fluid::BoundaryKind::far_field;
-    case io::FluidBoundaryType::slip_wall: return fluid::BoundaryKind::slip_wall;
-    case io::FluidBoundaryType::symmetry: return fluid::BoundaryKind::symmetry;
-    case io::FluidBoundaryType::no_slip_wall: return fluid::BoundaryKind::no_slip_wall;
+    case io::FluidBoundaryType::supersonic_inflow:
+      return fluid::BoundaryKind::supersonic_inflow;
+    case io::FluidBoundaryType::supersonic_outflow:
+      return fluid::BoundaryKind::supersonic_outflow;
+    case io::FluidBoundaryType::far_field:
+      return fluid::BoundaryKind::far_field;
+    case io::FluidBoundaryType::slip_wall:
+      return fluid::BoundaryKind::slip_wall;
+    case io::FluidBoundaryType::symmetry:
+      return fluid::BoundaryKind::symmetry;
+    case io::FluidBoundaryType::no_slip_wall:
+      return fluid::BoundaryKind::no_slip_wall;
   }
   throw_at(b.where, "unknown boundary type");
 }
@@ -37,14 +43,12 @@ fluid::Viscosity viscosity_of(const io::Viscosity& v) {
 fluid::Primitive primitive(const io::GasState& g) { return {g.density, g.velocity, g.pressure}; }
 
 fluid::Primitive primitive(const io::SpaceTimeState& s, const Vec3& X, double t) {
-  return {s.density(X, t), Vec3(s.velocity[0](X, t), s.velocity[1](X, t), s.velocity[2](X, t)),
-          s.pressure(X, t)};
+  return {s.density(X, t), Vec3(s.velocity[0](X, t), s.velocity[1](X, t), s.velocity[2](X, t)), s.pressure(X, t)};
 }
 
 fluid::FluidOptions fluid_options(const io::FluidSection& section) {
   fluid::FluidOptions options;
-  options.gas = fluid::IdealGas(section.gas.gamma, section.gas.gas_constant,
-                                viscosity_of(section.gas.viscosity));
+  options.gas = fluid::IdealGas(section.gas.gamma, section.gas.gas_constant, viscosity_of(section.gas.viscosity));
   if (section.analysis) {
     options.q_dif = section.analysis->q_dif;
     options.consistent_mass_iterations = section.analysis->consistent_mass_iterations;
@@ -104,7 +108,8 @@ Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh) {
   const io::FluidAnalysis* analysis = section.analysis ? &*section.analysis : nullptr;
   if (analysis && analysis->riemann) {
     const auto& r = *analysis->riemann;
-    model.set_state([&](const Vec3& x) { return x.dot(r.normal) < r.position ? primitive(r.left) : primitive(r.right); });
+    model.set_state(
+        [&](const Vec3& x) { return x.dot(r.normal) < r.position ? primitive(r.left) : primitive(r.right); });
   } else if (analysis && analysis->initial) {
     model.set_state([&](const Vec3& x) { return primitive(*analysis->initial, x, 0.0); });
   } else {

@@ -26,12 +26,11 @@ shell::ShellModel build_shell_model(const io::ShellSection& s, const mesh::Mesh&
           model.add_hard_simple_support(support.group);
           break;
         case io::SupportType::symmetry:
-          model.add_support(
-              shell::DirectionalSupport::symmetry_plane(support.group, support.normal));
+          model.add_support(shell::DirectionalSupport::symmetry_plane(support.group, support.normal));
           break;
         case io::SupportType::sliding:
-          model.add_support(shell::DirectionalSupport::roller(support.group, support.direction,
-                                                              support.clamp_director));
+          model.add_support(
+              shell::DirectionalSupport::roller(support.group, support.direction, support.clamp_director));
           break;
         case io::SupportType::prescribed: {
           shell::PrescribedMotion motion;
@@ -62,10 +61,9 @@ shell::ShellModel build_shell_model(const io::ShellSection& s, const mesh::Mesh&
       case io::ShellLoadType::point: {
         const auto hit = nodes.nearest(load.point);
         if (hit.distance > 1e-6 * model.reference_length()) {
-          throw_at(load.where,
-                   fmt::format("no shell node at ({}, {}, {}): the nearest is {:.3g} m "
-                               "away; put point loads on a node",
-                               load.point.x(), load.point.y(), load.point.z(), hit.distance));
+          throw_at(load.where, fmt::format("no shell node at ({}, {}, {}): the nearest is {:.3g} m "
+                                           "away; put point loads on a node",
+                                           load.point.x(), load.point.y(), load.point.z(), hit.distance));
         }
         model.add_point_load({hit.index, load.vector});
         break;
@@ -91,8 +89,8 @@ shell::NewmarkOptions newmark_options(const io::ShellAnalysis& analysis) {
   shell::NewmarkOptions options;
   options.mass_damping = analysis.mass_damping;
   options.newton.modified = analysis.modified_newton;
-  options.scheme = analysis.scheme == io::TimeScheme::midpoint ? shell::TimeScheme::midpoint
-                                                               : shell::TimeScheme::newmark;
+  options.scheme =
+      analysis.scheme == io::TimeScheme::midpoint ? shell::TimeScheme::midpoint : shell::TimeScheme::newmark;
   return options;
 }
 

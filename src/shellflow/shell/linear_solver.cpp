@@ -27,8 +27,7 @@ void eliminate_supports(SparseMatrix& K, const std::vector<char>& constrained) {
 // Ordering on the node graph: the dofs of a node share their column pattern, so AMD on the
 // nodes (7x fewer vertices) orders as well as AMD on the dofs and keeps each node's free
 // dofs consecutive (denser columns of L).
-void NewtonLinearSolver::analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained,
-                                         bool symmetric) {
+void NewtonLinearSolver::analyse_reduced(const SparseMatrix& K, const std::vector<char>& constrained, bool symmetric) {
   const Eigen::Index n = K.rows();
   const int block = n % dofs_per_node == 0 ? dofs_per_node : 1;
   const Eigen::Index num_blocks = n / block;

@@ -1,9 +1,8 @@
 #pragma once
 // The linear solve inside every Newton iteration of the shell solvers.
-#include <vector>
-
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseLU>
+#include <vector>
 
 #include "shellflow/shell/shell_model.h"
 

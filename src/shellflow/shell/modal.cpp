@@ -1,12 +1,11 @@
 #include "shellflow/shell/modal.h"
 
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
-
-#include <Eigen/Eigenvalues>
-#include <Eigen/SparseCholesky>
 
 #include "shellflow/core/error.h"
 
@@ -57,11 +56,11 @@ void check_rigid_motions_are_fixed(const ShellModel& model) {
   const auto vec = [&](const Vec3& a) {
     return fmt::format("[{:.3g}, {:.3g}, {:.3g}]", clean(a.x()), clean(a.y()), clean(a.z()));
   };
-  throw SolverError(fmt::format(
-      "shell modal analysis: no support stops the rigid-body {} {} (the stiffness matrix is "
-      "singular); add or extend supports so that the shell cannot move freely",
-      w.norm() > t.norm() ? "rotation about an axis along" : "translation along",
-      vec((w.norm() > t.norm() ? w : t).normalized())));
+  throw SolverError(
+      fmt::format("shell modal analysis: no support stops the rigid-body {} {} (the stiffness matrix is "
+                  "singular); add or extend supports so that the shell cannot move freely",
+                  w.norm() > t.norm() ? "rotation about an axis along" : "translation along",
+                  vec((w.norm() > t.norm() ? w : t).normalized())));
 }
 
 }  // namespace
@@ -117,8 +116,9 @@ ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen:
       // A mechanism that is not a rigid motion (a hinge line) leaves K singular too: its
       // eigenvalue is round-off of either sign.
       if (!(lambda(0) > 0.0))
-        throw SolverError("shell modal analysis: the stiffness matrix is singular (a zero-energy "
-                          "mode); check the supports");
+        throw SolverError(
+            "shell modal analysis: the stiffness matrix is singular (a zero-energy "
+            "mode); check the supports");
       result.iterations = it;
       for (int k = 0; k < count; ++k) {
         result.frequencies.push_back(std::sqrt(lambda(k)) / (2.0 * std::numbers::pi));
@@ -129,10 +129,11 @@ ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen:
       return result;
     }
   }
-  throw SolverError(fmt::format("shell modal analysis: subspace iteration did not converge in {} iterations "
-                                "to a relative eigenvalue change of {:.3g}; allow more iterations or a "
-                                "larger tolerance",
-                                options.max_iterations, options.tolerance));
+  throw SolverError(
+      fmt::format("shell modal analysis: subspace iteration did not converge in {} iterations "
+                  "to a relative eigenvalue change of {:.3g}; allow more iterations or a "
+                  "larger tolerance",
+                  options.max_iterations, options.tolerance));
 }
 
 }  // namespace shellflow::shell

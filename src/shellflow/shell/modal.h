@@ -10,7 +10,7 @@
 namespace shellflow::shell {
 
 struct ModalOptions {
-  int extra_vectors = 8;         ///< subspace size = count + extra_vectors
+  int extra_vectors = 8;  ///< subspace size = count + extra_vectors
   /// On the relative change of every wanted eigenvalue. The round-off floor is ~1e-9: the
   /// transverse-normal stiffness (~E/h) makes K ill-conditioned.
   double tolerance = 1e-8;
@@ -18,7 +18,7 @@ struct ModalOptions {
 };
 
 struct ModalResult {
-  std::vector<double> frequencies;  ///< Hz, ascending
+  std::vector<double> frequencies;     ///< Hz, ascending
   std::vector<Eigen::VectorXd> modes;  ///< M-normalised, full dof vectors
   int iterations = 0;
 };

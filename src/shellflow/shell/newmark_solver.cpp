@@ -33,7 +33,8 @@ NodalMass::NodalMass(const SparseMatrix& M) {
       if (a == 3 && b == 3) GG.emplace_back(j, k, it.value());
     }
   }
-  for (auto [matrix, entries] : {std::pair{&xx_, &xx}, std::pair{&xG_, &xG}, std::pair{&Gx_, &Gx}, std::pair{&GG_, &GG}}) {
+  for (auto [matrix, entries] :
+       {std::pair{&xx_, &xx}, std::pair{&xG_, &xG}, std::pair{&Gx_, &Gx}, std::pair{&GG_, &GG}}) {
     matrix->resize(n, n);
     matrix->setFromTriplets(entries->begin(), entries->end());
   }
@@ -53,11 +54,17 @@ Eigen::VectorXd NodalMass::operator*(const Eigen::VectorXd& v) const {
   return out;
 }
 
-NewmarkSolver::NewmarkSolver(const ShellModel& model, NewmarkOptions options,
-                             std::function<double(double)> load_factor)
-    : model_(model), options_(options), load_factor_(std::move(load_factor)),
-      u_(Eigen::VectorXd::Zero(model.num_dofs())), v_(u_), a_(u_), M_(mass_of(model)),
-      K_(model.make_matrix()), nodal_mass_(M_), linear_solver_(model) {
+NewmarkSolver::NewmarkSolver(const ShellModel& model, NewmarkOptions options, std::function<double(double)> load_factor)
+    : model_(model),
+      options_(options),
+      load_factor_(std::move(load_factor)),
+      u_(Eigen::VectorXd::Zero(model.num_dofs())),
+      v_(u_),
+      a_(u_),
+      M_(mass_of(model)),
+      K_(model.make_matrix()),
+      nodal_mass_(M_),
+      linear_solver_(model) {
   inertial_fixed_ = model_.constrained();
   for (Index n = 0; n < model_.num_nodes(); ++n) inertial_fixed_[static_cast<std::size_t>(dofs_per_node * n + 6)] = 1;
 }
@@ -87,12 +94,11 @@ void NewmarkSolver::set_linear_load(const SparseMatrix* stiffness, const SparseM
   const SparseMatrix& pattern = K_;
   for (const auto& [matrix, name] : {std::pair{stiffness, "stiffness"}, std::pair{damping, "damping"}}) {
     if (!matrix) continue;
-    const bool same = matrix->rows() == pattern.rows() && matrix->cols() == pattern.cols() && matrix->isCompressed() &&
-                      matrix->nonZeros() == pattern.nonZeros() &&
-                      std::equal(pattern.outerIndexPtr(), pattern.outerIndexPtr() + pattern.cols() + 1,
-                                 matrix->outerIndexPtr()) &&
-                      std::equal(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros(),
-                                 matrix->innerIndexPtr());
+    const bool same =
+        matrix->rows() == pattern.rows() && matrix->cols() == pattern.cols() && matrix->isCompressed() &&
+        matrix->nonZeros() == pattern.nonZeros() &&
+        std::equal(pattern.outerIndexPtr(), pattern.outerIndexPtr() + pattern.cols() + 1, matrix->outerIndexPtr()) &&
+        std::equal(pattern.innerIndexPtr(), pattern.innerIndexPtr() + pattern.nonZeros(), matrix->innerIndexPtr());
     if (!same)
       throw InputError(fmt::format(
           "shell dynamics: the linear load {} matrix must have the pattern of ShellModel::make_matrix ({}x{}, {} "
@@ -269,16 +275,14 @@ int NewmarkSolver::try_newmark_step(double dt) {
   // Forces at u itself; H = K - K_load + (1/(beta dt²) + gamma c_m/(beta dt)) M.
   // Linear load: v_{n+1}(u) = R + gamma dt a_{n+1}(u) = R - gamma dt Q + gamma/(beta dt) u.
   const double velocity_coefficient = gamma / (beta * dt);
-  const int iterations = iterate(u, lf, t_next, 1.0, mass_coefficient, velocity_coefficient,
-                                 [](const Eigen::VectorXd& y) { return y; },
-                                 [&](const Eigen::VectorXd& y) {
-                                   return Eigen::VectorXd(R - gamma * dt * Q + velocity_coefficient * y);
-                                 },
-                                 [&](const Eigen::VectorXd& y) {
-                                   const Eigen::VectorXd My = nodal_mass_ * y;
-                                   return std::pair{Eigen::VectorXd(mass_coefficient * My + inertia_history),
-                                                    Eigen::VectorXd(My / (beta * dt * dt) - MQ)};
-                                 });
+  const int iterations = iterate(
+      u, lf, t_next, 1.0, mass_coefficient, velocity_coefficient, [](const Eigen::VectorXd& y) { return y; },
+      [&](const Eigen::VectorXd& y) { return Eigen::VectorXd(R - gamma * dt * Q + velocity_coefficient * y); },
+      [&](const Eigen::VectorXd& y) {
+        const Eigen::VectorXd My = nodal_mass_ * y;
+        return std::pair{Eigen::VectorXd(mass_coefficient * My + inertia_history),
+                         Eigen::VectorXd(My / (beta * dt * dt) - MQ)};
+      });
   if (iterations < 0) return -1;
   const Eigen::VectorXd a_next = u / (beta * dt * dt) - Q;
   v_ = R + gamma * dt * a_next;
@@ -309,14 +313,15 @@ int NewmarkSolver::try_midpoint_step(double dt) {
   // Forces at u_mid = (u_n + u)/2; H = dg/du = (K - K_load)(u_mid) / 2 + (2/dt² + c_m/dt) M.
   // Linear load: y_mid = (u_n + u)/2, v_mid = (v_n + v_{n+1})/2 = (u - u_n)/dt, so the
   // iteration matrix gets A/2 + B/dt.
-  const int iterations = iterate(u, lf, t_mid, 0.5, mass_coefficient, 1.0 / dt,
-                                 [&](const Eigen::VectorXd& y) { return Eigen::VectorXd(0.5 * (u_ + y)); },
-                                 [&](const Eigen::VectorXd& y) { return Eigen::VectorXd((y - u_) / dt); },
-                                 [&](const Eigen::VectorXd& y) {
-                                   const Eigen::VectorXd M_du = nodal_mass_ * (y - u_);
-                                   const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
-                                   return std::pair{Eigen::VectorXd(M_acceleration + (cm / dt) * M_du), M_acceleration};
-                                 });
+  const int iterations = iterate(
+      u, lf, t_mid, 0.5, mass_coefficient, 1.0 / dt,
+      [&](const Eigen::VectorXd& y) { return Eigen::VectorXd(0.5 * (u_ + y)); },
+      [&](const Eigen::VectorXd& y) { return Eigen::VectorXd((y - u_) / dt); },
+      [&](const Eigen::VectorXd& y) {
+        const Eigen::VectorXd M_du = nodal_mass_ * (y - u_);
+        const Eigen::VectorXd M_acceleration = (2.0 / (dt * dt)) * M_du - (2.0 / dt) * Mv;
+        return std::pair{Eigen::VectorXd(M_acceleration + (cm / dt) * M_du), M_acceleration};
+      });
   if (iterations < 0) return -1;
   Eigen::VectorXd v_next = (2.0 / dt) * (u - u_) - v_;
   for (Index n = 0; n < model_.num_nodes(); ++n) v_next(dofs_per_node * n + 6) = 0.0;

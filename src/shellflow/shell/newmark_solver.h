@@ -56,8 +56,7 @@ class NewmarkSolver {
   /// without history; default 0. Follower pressures with a history and the model's point
   /// loads are not scaled by it. The solver reads the model's loads at every Newton
   /// iteration, so point loads set on the model between steps act in the next step.
-  NewmarkSolver(const ShellModel& model, NewmarkOptions options = {},
-                std::function<double(double)> load_factor = {});
+  NewmarkSolver(const ShellModel& model, NewmarkOptions options = {}, std::function<double(double)> load_factor = {});
 
   /// Sets the initial state (u, v at the current time; u = 0 at rest) and computes the
   /// consistent acceleration from M a = F_ext - F_int - C v on the x and G rows. The `a`
@@ -128,8 +127,8 @@ class NewmarkSolver {
   /// Newton on the end state u of a step (the loop both schemes share); the iterations or -1.
   template <class EvaluationState, class EvaluationVelocity, class InertiaForces>
   int iterate(Eigen::VectorXd& u, double load_factor, double time, double tangent_weight, double mass_coefficient,
-              double velocity_coefficient, EvaluationState&& evaluation_state,
-              EvaluationVelocity&& evaluation_velocity, InertiaForces&& inertia_forces);
+              double velocity_coefficient, EvaluationState&& evaluation_state, EvaluationVelocity&& evaluation_velocity,
+              InertiaForces&& inertia_forces);
   /// Whether this iteration assembles and factorises the iteration matrix
   /// H = tangent_weight K + mass_coefficient M (always, unless NewtonOptions::modified).
   bool needs_new_matrix(double mass_coefficient) const;
@@ -158,8 +157,8 @@ class NewmarkSolver {
   double factorized_mass_coefficient_ = 0.0;
   double last_residual_ = 0.0;
   int matrix_factorizations_ = 0;
-  std::vector<double> kept_matrix_values_;  ///< modified Newton: H before its factorisation (checkpoints)
-  std::vector<char> inertial_fixed_;  ///< constrained dofs plus every `a` (no inertia)
+  std::vector<double> kept_matrix_values_;          ///< modified Newton: H before its factorisation (checkpoints)
+  std::vector<char> inertial_fixed_;                ///< constrained dofs plus every `a` (no inertia)
   const SparseMatrix* linear_stiffness_ = nullptr;  ///< A of set_linear_load
   const SparseMatrix* linear_damping_ = nullptr;    ///< B of set_linear_load
 };

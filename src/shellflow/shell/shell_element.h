@@ -6,14 +6,13 @@
 // Unknowns of one element, node-major, 7 per node (shell.md §2.5, increment form):
 //   u_e = [dx_0 (3), dG_0 (3), a_0 | dx_1 ... ],  dx = x - X, dG = G - V, a.
 // `Tri` is fem::Tri3, fem::Tri6 or fem::Tri10 (Gmsh node order).
+#include <Eigen/Dense>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Dense>
 
 #include "shellflow/core/types.h"
 #include "shellflow/fem/quadrature.h"
@@ -32,9 +31,9 @@ struct ShellQuadrature {
   using Values = Eigen::Matrix<double, num_nodes, 1>;
   using Gradients = Eigen::Matrix<double, num_nodes, 2>;
 
-  std::vector<double> plane_weights;  ///< sum to 1/2 (reference triangle area)
-  std::vector<Values> phi;            ///< phi[q](j)
-  std::vector<Gradients> dphi;        ///< dphi[q](j, alpha) = dphi_j / dxi_alpha
+  std::vector<double> plane_weights;      ///< sum to 1/2 (reference triangle area)
+  std::vector<Values> phi;                ///< phi[q](j)
+  std::vector<Gradients> dphi;            ///< dphi[q](j, alpha) = dphi_j / dxi_alpha
   std::vector<double> thickness_points;   ///< xi3 in [-1, 1]
   std::vector<double> thickness_weights;  ///< sum to 2
 
@@ -121,9 +120,8 @@ struct PlanePoint {
   double h_d[2] = {0.0, 0.0};
 
   template <class Tri, class Vector>
-  void interpolate(const ShellElementGeometry<Tri>& geo,
-                   const Eigen::Matrix<double, N, 1>& phi, const Eigen::Matrix<double, N, 2>& dphi,
-                   const Vector& u) {
+  void interpolate(const ShellElementGeometry<Tri>& geo, const Eigen::Matrix<double, N, 1>& phi,
+                   const Eigen::Matrix<double, N, 2>& dphi, const Vector& u) {
     dx_d[0] = dx_d[1] = dg = dg_d[0] = dg_d[1] = Vec3::Zero();
     a = a_d[0] = a_d[1] = 0.0;
     for (int j = 0; j < N; ++j) {
@@ -193,8 +191,7 @@ double strain_energy(const ShellElementGeometry<Tri>& geo, const ShellQuadrature
 
 /// Largest |E_ik| over the element's volume points (diagnostic for strain-free states).
 template <class Tri, class Vector>
-double max_abs_strain(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule,
-                      const Vector& u) {
+double max_abs_strain(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule, const Vector& u) {
   constexpr int N = Tri::num_nodes;
   const int nt = rule.thickness_size();
   double worst = 0.0;
@@ -222,11 +219,10 @@ double max_abs_strain(const ShellElementGeometry<Tri>& geo, const ShellQuadratur
 /// points (Phi is the same for all of them) and expanded to node pairs once per in-plane
 /// point, in a type-major buffer that is permuted to node-major once per element.
 template <class Tri, class Vector>
-bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule,
-                    const SvkMaterial& material, const Vector& u,
-                    Eigen::Matrix<double, ShellElementGeometry<Tri>::num_dofs, 1>& f,
-                    Eigen::Matrix<double, ShellElementGeometry<Tri>::num_dofs,
-                                  ShellElementGeometry<Tri>::num_dofs>* K) {
+bool internal_force(
+    const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule, const SvkMaterial& material,
+    const Vector& u, Eigen::Matrix<double, ShellElementGeometry<Tri>::num_dofs, 1>& f,
+    Eigen::Matrix<double, ShellElementGeometry<Tri>::num_dofs, ShellElementGeometry<Tri>::num_dofs>* K) {
   constexpr int N = Tri::num_nodes;
   constexpr int nd = ShellElementGeometry<Tri>::num_dofs;
   constexpr int nz = 3 * dofs_per_node;  // (type t, basis m) -> 3 t + m
@@ -240,11 +236,11 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
 
   // Type-major tangent: Kt(t N + j, s N + k). Thread-local: 39 kB for Tri10.
   thread_local Eigen::Matrix<double, nd, nd> Kt;
-  Eigen::Matrix<double, 6, nz> M;        // strain variations per (t, m), Voigt
-  Eigen::Matrix<double, 7, nz> LM;       // Lc M
-  Eigen::Matrix<double, 3, 6> Wb;        // A0^-T P e_m for x (m = 0..2) then G (m = 0..2)
-  std::array<Mat3, 3> Da;                // dA1/da per basis m, times A0^-1
-  Eigen::Matrix<double, 3, N> Phi;       // rows dphi/dxi1, dphi/dxi2, phi
+  Eigen::Matrix<double, 6, nz> M;   // strain variations per (t, m), Voigt
+  Eigen::Matrix<double, 7, nz> LM;  // Lc M
+  Eigen::Matrix<double, 3, 6> Wb;   // A0^-T P e_m for x (m = 0..2) then G (m = 0..2)
+  std::array<Mat3, 3> Da;           // dA1/da per basis m, times A0^-1
+  Eigen::Matrix<double, 3, N> Phi;  // rows dphi/dxi1, dphi/dxi2, phi
   // Expansion to node pairs, batched over the in-plane points so that it is one product
   // with inner dimension 3 x (in-plane points) per type block row:
   // PhiT(j, 3 q + m) = Phi_q(m, j); Ycat(t 3nq + 3 q + m, s N + k) = (Z_q(t, s) Phi_q)(m, k).
@@ -343,7 +339,8 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
         ((Z.template block<3, 3 * T + 3>(3 * T, 0).noalias() +=
           LMw.template middleCols<3>(3 * T).transpose().lazyProduct(LM.template leftCols<3 * T + 3>())),
          ...);
-      }(std::make_integer_sequence<int, dofs_per_node>{});
+      }
+      (std::make_integer_sequence<int, dofs_per_node>{});
 
       // Initial-stress part of x/G: delta_ii' w_r^T S w_s (node vectors).
       const Eigen::Matrix<double, 6, 6> P = dV * (Wb.transpose() * (S * Wb));
@@ -375,8 +372,7 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
             Z(18 + m, 3 * (3 + i) + n) += vG;
             Z(3 * (3 + i) + n, 18 + m) += vG;
           }
-        for (int n = 0; n < 3; ++n)
-          Z(18 + m, 18 + n) += (DaS.array() * Da[static_cast<std::size_t>(n)].array()).sum();
+        for (int n = 0; n < 3; ++n) Z(18 + m, 18 + n) += (DaS.array() * Da[static_cast<std::size_t>(n)].array()).sum();
       }
     }
     // Expand to node pairs: f_j(t) = Phi_j^T fz(t); K_jk(t, s) = Phi_j^T Z(t, s) Phi_k.
@@ -411,8 +407,8 @@ bool internal_force(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<
 /// Constant consistent mass (shell.md §6): x–x, x–G and G–G blocks are multiples of the
 /// identity; rows and columns of `a` are zero ([decision] of §6: no inertia of `a`).
 template <class Tri>
-Eigen::Matrix<double, ShellElementGeometry<Tri>::num_dofs, ShellElementGeometry<Tri>::num_dofs>
-mass_matrix(const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule, double density) {
+Eigen::Matrix<double, ShellElementGeometry<Tri>::num_dofs, ShellElementGeometry<Tri>::num_dofs> mass_matrix(
+    const ShellElementGeometry<Tri>& geo, const ShellQuadrature<Tri>& rule, double density) {
   constexpr int N = Tri::num_nodes;
   constexpr int nd = ShellElementGeometry<Tri>::num_dofs;
   Eigen::Matrix<double, N, N> mxx = Eigen::Matrix<double, N, N>::Zero();

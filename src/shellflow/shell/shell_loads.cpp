@@ -1,8 +1,6 @@
 // ShellModel loads (shell.md §11): dead loads (line, point, surface traction, gravity),
 // follower loads (edge couples, follower pressures with or without a time history) and the
 // per-load-point pressures and tractions set from outside (coupling).
-#include "shellflow/shell/shell_model.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -12,6 +10,7 @@
 #include "shellflow/core/error.h"
 #include "shellflow/fem/quadrature.h"
 #include "shellflow/fem/reference_element.h"
+#include "shellflow/shell/shell_model.h"
 #include "shellflow/shell/shell_model_loops.h"
 
 namespace shellflow::shell {
@@ -37,7 +36,8 @@ void integrate_over_lines(const mesh::Mesh& mesh, const mesh::PhysicalGroup& gro
           E::eval(rule.point(q).data(), phi);
           E::eval_gradients(rule.point(q).data(), dphi);
           Vec3 t = Vec3::Zero();
-          for (int j = 0; j < N; ++j) t += dphi[j] * mesh.nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
+          for (int j = 0; j < N; ++j)
+            t += dphi[j] * mesh.nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
           const double ds = t.norm() * rule.weights[static_cast<std::size_t>(q)];
           for (int j = 0; j < N; ++j) f(conn[static_cast<std::size_t>(j)], phi[j] * ds);
         }
@@ -65,8 +65,8 @@ std::vector<Index> ShellModel::surface_cells(const std::string& group, std::stri
   }
   const mesh::PhysicalGroup& g = mesh_.group(group);
   if (g.dim != 2)
-    throw_input_error("shell mesh '{}': {} needs a surface group, '{}' has dimension {}", mesh_.name, load_name,
-                      g.name, g.dim);
+    throw_input_error("shell mesh '{}': {} needs a surface group, '{}' has dimension {}", mesh_.name, load_name, g.name,
+                      g.dim);
   return g.cells;
 }
 
@@ -97,7 +97,8 @@ void ShellModel::add_surface_traction(const SurfaceTraction& load) {
             }
             const double dA = X1.cross(X2).norm() * set.rule.plane_weights[static_cast<std::size_t>(q)];
             for (int j = 0; j < N; ++j)
-              reference_load_.segment<3>(dofs_per_node * conn[static_cast<std::size_t>(j)]) += phi(j) * dA * load.traction;
+              reference_load_.segment<3>(dofs_per_node * conn[static_cast<std::size_t>(j)]) +=
+                  phi(j) * dA * load.traction;
           }
         }
       },
@@ -200,9 +201,10 @@ void ShellModel::clear_point_loads() {
 
 void ShellModel::check_pattern(const SparseMatrix& K, std::string_view what) const {
   if (K.rows() != num_dofs() || K.cols() != num_dofs() || !K.isCompressed() || K.nonZeros() != pattern_.nonZeros())
-    throw SolverError(fmt::format("shell mesh '{}': {} needs a matrix with the pattern of make_matrix ({}x{}, {} "
-                                  "entries)",
-                                  mesh_.name, what, num_dofs(), num_dofs(), pattern_.nonZeros()));
+    throw SolverError(
+        fmt::format("shell mesh '{}': {} needs a matrix with the pattern of make_matrix ({}x{}, {} "
+                    "entries)",
+                    mesh_.name, what, num_dofs(), num_dofs(), pattern_.nonZeros()));
 }
 
 // Edge couple (shell.md §11): F_G^j = m_j (t x G_j)/|w_j|^2, w_j = G_j - (G_j.t) t, the
@@ -226,7 +228,8 @@ void ShellModel::add_edge_couples(const Eigen::VectorXd& u, double factor, Eigen
         const Mat3 dF = m * (t_cross / w2 - 2.0 * txG * w.transpose() / (w2 * w2));
         double* values = K->valuePtr();
         for (int col = 0; col < 3; ++col)
-          for (int i = 0; i < 3; ++i) values[edge_couple_offsets_[c][k][static_cast<std::size_t>(col)] + i] -= dF(i, col);
+          for (int i = 0; i < 3; ++i)
+            values[edge_couple_offsets_[c][k][static_cast<std::size_t>(col)] + i] -= dF(i, col);
       }
     }
   }
@@ -298,8 +301,8 @@ void ShellModel::add_pressure_loads(const Eigen::VectorXd& u, const std::vector<
       elements_);
 }
 
-void ShellModel::add_follower_loads(const Eigen::VectorXd& u, double load_factor, double time,
-                                    Eigen::VectorXd& force, SparseMatrix* K) const {
+void ShellModel::add_follower_loads(const Eigen::VectorXd& u, double load_factor, double time, Eigen::VectorXd& force,
+                                    SparseMatrix* K) const {
   if (K && !edge_couples_.empty()) check_pattern(*K, "the edge couple stiffness");
   add_edge_couples(u, load_factor, force, K);
   std::vector<double> scale(pressures_.size());

@@ -25,15 +25,14 @@ bool is_type(mesh::ElementType t) {
 
 }  // namespace
 
-ShellModel::ShellModel(mesh::Mesh mesh, const ShellSection& section)
-    : mesh_(std::move(mesh)), section_(section) {
+ShellModel::ShellModel(mesh::Mesh mesh, const ShellSection& section) : mesh_(std::move(mesh)), section_(section) {
   section_.material.validate();
   if (!(section_.thickness > 0.0))
     throw_input_error("shell mesh '{}': thickness must be > 0 (got {})", mesh_.name, section_.thickness);
   const int type = static_cast<int>(mesh_.cells.type);
   if (type != fem::Tri3::gmsh_type && type != fem::Tri6::gmsh_type && type != fem::Tri10::gmsh_type)
-    throw_input_error("shell mesh '{}': cells must be 3-, 6- or 10-node triangles (got Gmsh type {})",
-                      mesh_.name, type);
+    throw_input_error("shell mesh '{}': cells must be 3-, 6- or 10-node triangles (got Gmsh type {})", mesh_.name,
+                      type);
   if (mesh_.num_cells() == 0) throw_input_error("shell mesh '{}' has no triangles", mesh_.name);
 
   Vec3 lo = mesh_.nodes.front(), hi = lo;
@@ -114,7 +113,8 @@ void ShellModel::compute_load_points() {
         constexpr int N = Geometry::num_nodes;
         points_per_element_ = set.rule.plane_size();
         load_points_.clear();
-        load_points_.reserve(static_cast<std::size_t>(mesh_.num_cells()) * static_cast<std::size_t>(points_per_element_));
+        load_points_.reserve(static_cast<std::size_t>(mesh_.num_cells()) *
+                             static_cast<std::size_t>(points_per_element_));
         for (Index e = 0; e < mesh_.num_cells(); ++e) {
           const auto conn = mesh_.cells.element(e);
           for (int q = 0; q < points_per_element_; ++q) {
@@ -206,8 +206,7 @@ void ShellModel::compute_pattern() {
         for (int a = 0; a < n; ++a) {
           const int row = dofs_per_node * conn[static_cast<std::size_t>(a)];
           const int* pos = std::lower_bound(inner + outer[col], inner + outer[col + 1], row);
-          offsets_[((static_cast<std::size_t>(e) * n + b) * dofs_per_node + c) * n + a] =
-              static_cast<int>(pos - inner);
+          offsets_[((static_cast<std::size_t>(e) * n + b) * dofs_per_node + c) * n + a] = static_cast<int>(pos - inner);
         }
       }
   }
@@ -245,8 +244,8 @@ bool ShellModel::assemble(const Eigen::VectorXd& u, Eigen::VectorXd& f_int, Spar
                 u.segment<dofs_per_node>(dofs_per_node * conn[static_cast<std::size_t>(j)]);
           // The element matrix is large for Tri10 (39 kB): keep it off the stack.
           thread_local Eigen::Matrix<double, nd, nd> Ke;
-          const bool ok = internal_force(set.geometry[static_cast<std::size_t>(e)], set.rule,
-                                         section_.material, ue, fe, K ? &Ke : nullptr);
+          const bool ok = internal_force(set.geometry[static_cast<std::size_t>(e)], set.rule, section_.material, ue, fe,
+                                         K ? &Ke : nullptr);
           if (!ok) {
 #pragma omp atomic write
             admissible = 0;

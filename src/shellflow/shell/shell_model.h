@@ -2,8 +2,9 @@
 // A shell model: mesh + section + supports + loads (dead, follower, and per-load-point loads
 // set from outside), and the global operators of the positional shell (internal force,
 // tangent, mass) assembled into Eigen sparse matrices whose pattern is computed once.
-// Definitions: shell_model.cpp (construction, assembly), shell_supports.cpp, shell_loads.cpp. Unknowns: increments u = y - y0, node-major, 7 per node
-// [dx (3), dG (3), a] (shell.md §0, §2.5).
+// Definitions: shell_model.cpp (construction, assembly), shell_supports.cpp, shell_loads.cpp. Unknowns: increments u =
+// y - y0, node-major, 7 per node [dx (3), dG (3), a] (shell.md §0, §2.5).
+#include <Eigen/Sparse>
 #include <array>
 #include <optional>
 #include <span>
@@ -11,8 +12,6 @@
 #include <string_view>
 #include <variant>
 #include <vector>
-
-#include <Eigen/Sparse>
 
 #include "shellflow/core/time_function.h"
 #include "shellflow/fem/shape_functions.h"
@@ -76,9 +75,9 @@ struct DirectionalSupport {
 /// sets with ShellModel::apply_prescribed before each step.
 struct PrescribedMotion {
   std::string group;
-  Vec3 displacement = Vec3::Zero();   ///< d
+  Vec3 displacement = Vec3::Zero();                                 ///< d
   TimeFunction displacement_history = TimeFunction::constant(1.0);  ///< f(t)
-  Vec3 rotation_axis = Vec3::Zero();  ///< zero: the director is left free
+  Vec3 rotation_axis = Vec3::Zero();                                ///< zero: the director is left free
   TimeFunction rotation_angle = TimeFunction::constant(0.0);        ///< g(t)
 };
 
@@ -126,10 +125,10 @@ struct FollowerPressure {
 /// An in-plane quadrature point of the shell (section.plane_degree rule), where the
 /// follower-pressure kernel and the point loads act (ShellModel::load_points).
 struct LoadPoint {
-  ShellPoint point{};             ///< element and xi of the quadrature point
-  Vec3 position = Vec3::Zero();   ///< reference mid-surface point X̂(xi)
-  Vec3 normal = Vec3::Zero();     ///< reference unit normal X̂_1 × X̂_2 / |…| (oriented like V)
-  double weight = 0.0;            ///< reference area weight w_q |X̂_1 × X̂_2|
+  ShellPoint point{};            ///< element and xi of the quadrature point
+  Vec3 position = Vec3::Zero();  ///< reference mid-surface point X̂(xi)
+  Vec3 normal = Vec3::Zero();    ///< reference unit normal X̂_1 × X̂_2 / |…| (oriented like V)
+  double weight = 0.0;           ///< reference area weight w_q |X̂_1 × X̂_2|
 };
 
 /// Elements of one triangle type with their precomputed geometry and a colouring in which
@@ -317,11 +316,7 @@ class ShellModel {
 };
 
 /// Nodal values of a 7-per-node vector.
-inline Vec3 node_position_increment(const Eigen::VectorXd& u, Index n) {
-  return u.segment<3>(dofs_per_node * n);
-}
-inline Vec3 node_director_increment(const Eigen::VectorXd& u, Index n) {
-  return u.segment<3>(dofs_per_node * n + 3);
-}
+inline Vec3 node_position_increment(const Eigen::VectorXd& u, Index n) { return u.segment<3>(dofs_per_node * n); }
+inline Vec3 node_director_increment(const Eigen::VectorXd& u, Index n) { return u.segment<3>(dofs_per_node * n + 3); }
 
 }  // namespace shellflow::shell

@@ -145,8 +145,8 @@ Vec2 project_on_patch(SurfacePatch<Tri>& patch, const Vec3& p, Vec2 xi) {
   }
   if (inside_triangle(xi, 0.0) && xi(0) > 0.0 && xi(1) > 0.0 && xi.sum() < 1.0 && blocked == 0) return xi;
   // Edges ξ(s) = start + s dir, s in [0, 1].
-  const std::array<std::pair<Vec2, Vec2>, 3> edges{std::pair{Vec2(0, 0), Vec2(1, 0)}, std::pair{Vec2(1, 0), Vec2(-1, 1)},
-                                                   std::pair{Vec2(0, 1), Vec2(0, -1)}};
+  const std::array<std::pair<Vec2, Vec2>, 3> edges{
+      std::pair{Vec2(0, 0), Vec2(1, 0)}, std::pair{Vec2(1, 0), Vec2(-1, 1)}, std::pair{Vec2(0, 1), Vec2(0, -1)}};
   Vec2 best = xi;
   double best_d2 = std::numeric_limits<double>::infinity();
   for (const auto& [start, dir] : edges) {
@@ -155,7 +155,8 @@ Vec2 project_on_patch(SurfacePatch<Tri>& patch, const Vec3& p, Vec2 xi) {
       patch.evaluate(start + s * dir);
       const Vec3 r = patch.pos - p;
       const Vec3 t = dir(0) * patch.d[0] + dir(1) * patch.d[1];
-      const Vec3 tt = dir(0) * dir(0) * patch.dd[0] + 2.0 * dir(0) * dir(1) * patch.dd[1] + dir(1) * dir(1) * patch.dd[2];
+      const Vec3 tt =
+          dir(0) * dir(0) * patch.dd[0] + 2.0 * dir(0) * dir(1) * patch.dd[1] + dir(1) * dir(1) * patch.dd[2];
       double h = t.dot(t) + r.dot(tt);
       if (!(h > 0.0)) h = t.dot(t);
       const double next = std::clamp(s - t.dot(r) / h, 0.0, 1.0);

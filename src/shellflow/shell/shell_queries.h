@@ -21,10 +21,10 @@ Vec3 mid_surface_normal(const ShellModel& model, const ShellPoint& p, const Eige
 
 /// Result of a closest-point query on the mid-surface.
 struct ClosestPoint {
-  ShellPoint point;                ///< (element, ξ1, ξ2) of the closest mid-surface point
-  Vec3 position = Vec3::Zero();    ///< that point x̂(ξ)
-  double distance = 0.0;           ///< |p − x̂|
-  double offset = 0.0;             ///< (p − x̂)·n, n the unit normal there (oriented like V)
+  ShellPoint point;              ///< (element, ξ1, ξ2) of the closest mid-surface point
+  Vec3 position = Vec3::Zero();  ///< that point x̂(ξ)
+  double distance = 0.0;         ///< |p − x̂|
+  double offset = 0.0;           ///< (p − x̂)·n, n the unit normal there (oriented like V)
 };
 
 /// Closest-point location on the curved mid-surface (shell.md §12) of the undeformed shell

@@ -48,8 +48,8 @@ StressPoint evaluate(const ShellModel& model, const Eigen::VectorXd& u, Index e,
   s.F = Mat3::Identity() + H;
   const double J = s.F.determinant();
   if (!(J > 0.0))
-    throw SolverError(fmt::format("shell stress: det F = {:.3g} <= 0 in element {} of mesh '{}' (inverted state)", J,
-                                  e, m.name));
+    throw SolverError(
+        fmt::format("shell stress: det F = {:.3g} <= 0 in element {} of mesh '{}' (inverted state)", J, e, m.name));
   const SvkMaterial& material = model.section().material;
   s.E = detail::green_lagrange(H);
   s.S = detail::svk_stress(s.E, material.lame_lambda(), material.lame_mu());
@@ -67,17 +67,18 @@ StressPoint stress_at(const ShellModel& model, const Eigen::VectorXd& u, const S
   if (!(xi3 >= -1.0 && xi3 <= 1.0))
     throw_input_error("shell stress: thickness coordinate xi3 must be in [-1, 1] (got {})", xi3);
   StressPoint s;
-  visit_triangle(model, [&](auto element) {
-    s = evaluate<decltype(element)>(model, u, p.element, p.xi.data(), xi3);
-  });
+  visit_triangle(model, [&](auto element) { s = evaluate<decltype(element)>(model, u, p.element, p.xi.data(), xi3); });
   return s;
 }
 
 const Mat3& select(const StressPoint& s, StressMeasure measure) {
   switch (measure) {
-    case StressMeasure::green_lagrange_strain: return s.E;
-    case StressMeasure::second_piola_kirchhoff: return s.S;
-    case StressMeasure::cauchy: break;
+    case StressMeasure::green_lagrange_strain:
+      return s.E;
+    case StressMeasure::second_piola_kirchhoff:
+      return s.S;
+    case StressMeasure::cauchy:
+      break;
   }
   return s.sigma;
 }

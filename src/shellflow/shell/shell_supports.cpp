@@ -1,7 +1,5 @@
 // ShellModel supports: axis-aligned and directional supports, local node frames, hard
 // simple support, prescribed motion (shell.md §10).
-#include "shellflow/shell/shell_model.h"
-
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -11,6 +9,7 @@
 #include "shellflow/core/error.h"
 #include "shellflow/fem/quadrature.h"
 #include "shellflow/fem/reference_element.h"
+#include "shellflow/shell/shell_model.h"
 
 namespace shellflow::shell {
 
@@ -233,7 +232,8 @@ std::vector<std::vector<Vec3>> line_tangents(const mesh::Mesh& mesh, const mesh:
           double dphi[N];
           E::eval_gradients(E::node_points[static_cast<std::size_t>(a)].data(), dphi);
           Vec3 t = Vec3::Zero();
-          for (int j = 0; j < N; ++j) t += dphi[j] * mesh.nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
+          for (int j = 0; j < N; ++j)
+            t += dphi[j] * mesh.nodes[static_cast<std::size_t>(conn[static_cast<std::size_t>(j)])];
           t.normalize();
           auto& list = tangents[static_cast<std::size_t>(conn[static_cast<std::size_t>(a)])];
           bool merged = false;
@@ -271,7 +271,8 @@ void ShellModel::add_prescribed_motion(const PrescribedMotion& motion) {
                       motion.group);
   PrescribedMotion m = motion;
   const bool rotates = motion.rotation_axis != Vec3::Zero();
-  if (rotates) m.rotation_axis = checked_direction(motion.rotation_axis, "prescribed rotation", motion.group, mesh_.name);
+  if (rotates)
+    m.rotation_axis = checked_direction(motion.rotation_axis, "prescribed rotation", motion.group, mesh_.name);
   for (Index n : group.nodes)
     for (int i = 0; i < 3; ++i) {
       fix_direction(n, 0, Vec3::Unit(i));

@@ -49,9 +49,10 @@ int step_with_cutbacks(double current, double target, int max_cutbacks, SolveAt&
 /// Prescribed support motions follow the load factor, so they only go with load control.
 void require_no_prescribed_motion(const ShellModel& model, std::string_view method) {
   if (model.has_prescribed_motion())
-    throw InputError(fmt::format("shell mesh '{}': prescribed support motion needs load control; {} varies the "
-                                 "load factor inside a step; use control: load",
-                                 model.mesh().name, method));
+    throw InputError(
+        fmt::format("shell mesh '{}': prescribed support motion needs load control; {} varies the "
+                    "load factor inside a step; use control: load",
+                    model.mesh().name, method));
 }
 
 }  // namespace
@@ -77,7 +78,10 @@ bool newton_converged(const ShellModel& model, const NewtonOptions& options, con
 }
 
 StaticSolver::StaticSolver(const ShellModel& model, NewtonOptions options)
-    : model_(model), options_(options), u_(Eigen::VectorXd::Zero(model.num_dofs())), K_(model.make_matrix()),
+    : model_(model),
+      options_(options),
+      u_(Eigen::VectorXd::Zero(model.num_dofs())),
+      K_(model.make_matrix()),
       linear_solver_(model) {
   model_.apply_prescribed(0.0, u_);
 }
@@ -168,8 +172,8 @@ std::vector<LoadStep> StaticSolver::run(int num_steps, double final_load_factor,
 
 void StaticSolver::set_state(const Eigen::VectorXd& u, double load_factor) {
   if (u.size() != model_.num_dofs())
-    throw InputError(fmt::format("shell statics: state has {} entries, the model has {} dofs", u.size(),
-                                 model_.num_dofs()));
+    throw InputError(
+        fmt::format("shell statics: state has {} entries, the model has {} dofs", u.size(), model_.num_dofs()));
   u_ = u;
   load_factor_ = load_factor;
   last_increment_.resize(0);
@@ -204,8 +208,7 @@ bool StaticSolver::assemble_system(double load_factor, Eigen::VectorXd& residual
 
 bool StaticSolver::solve_pair(Eigen::VectorXd& minus_g_then_du_r, Eigen::VectorXd& q_then_du_t) {
   tangent_kept_ = false;
-  return linear_solver_.factorize(K_) && linear_solver_.solve(minus_g_then_du_r) &&
-         linear_solver_.solve(q_then_du_t);
+  return linear_solver_.factorize(K_) && linear_solver_.solve(minus_g_then_du_r) && linear_solver_.solve(q_then_du_t);
 }
 
 double StaticSolver::position_dot(const Eigen::VectorXd& a, const Eigen::VectorXd& b) const {
@@ -213,7 +216,8 @@ double StaticSolver::position_dot(const Eigen::VectorXd& a, const Eigen::VectorX
   model_.remove_fixed_part(a_free);
   model_.remove_fixed_part(b_free);
   double s = 0.0;
-  for (Index n = 0; n < model_.num_nodes(); ++n) s += a_free.segment<3>(dofs_per_node * n).dot(b_free.segment<3>(dofs_per_node * n));
+  for (Index n = 0; n < model_.num_nodes(); ++n)
+    s += a_free.segment<3>(dofs_per_node * n).dot(b_free.segment<3>(dofs_per_node * n));
   return s;
 }
 
@@ -224,21 +228,20 @@ Eigen::VectorXd StaticSolver::control_weights(const ControlledDisplacement& cont
   Eigen::VectorXd w = Eigen::VectorXd::Zero(model_.num_dofs());
   if (control.node >= 0) {
     if (control.node >= model_.num_nodes())
-      throw InputError(fmt::format("displacement control: node {} does not exist (the mesh has {} nodes)",
-                                   control.node, model_.num_nodes()));
+      throw InputError(fmt::format("displacement control: node {} does not exist (the mesh has {} nodes)", control.node,
+                                   model_.num_nodes()));
     w(dofs_per_node * control.node + control.component) = 1.0;
   } else {
     const auto& nodes = model_.mesh().group(control.group).nodes;
-    if (nodes.empty())
-      throw InputError(fmt::format("displacement control: group '{}' has no nodes", control.group));
+    if (nodes.empty()) throw InputError(fmt::format("displacement control: group '{}' has no nodes", control.group));
     for (Index n : nodes) w(dofs_per_node * n + control.component) = 1.0 / static_cast<double>(nodes.size());
   }
   if (!(model_.free_norm(w) > 1e-12 * w.norm()))
-    throw InputError(fmt::format("displacement control: component {} of {} is fixed by a support; control a free "
-                                 "displacement",
-                                 control.component,
-                                 control.node >= 0 ? fmt::format("node {}", control.node)
-                                                   : fmt::format("group '{}'", control.group)));
+    throw InputError(fmt::format(
+        "displacement control: component {} of {} is fixed by a support; control a free "
+        "displacement",
+        control.component,
+        control.node >= 0 ? fmt::format("node {}", control.node) : fmt::format("group '{}'", control.group)));
   return w;
 }
 
@@ -362,10 +365,10 @@ std::vector<LoadStep> StaticSolver::run_arc_length(int max_steps, const ArcLengt
   require_no_prescribed_motion(model_, "the arc-length method");
   if (!(options.initial_load_increment != 0.0) || options.desired_iterations < 1 || !(options.max_growth >= 1.0) ||
       !(options.max_shrink >= 1.0))
-    throw InputError(fmt::format("arc-length method: need a non-zero initial load increment (got {}), "
-                                 "desired_iterations >= 1 (got {}), max_growth >= 1 and max_shrink >= 1 (got {}, {})",
-                                 options.initial_load_increment, options.desired_iterations, options.max_growth,
-                                 options.max_shrink));
+    throw InputError(fmt::format(
+        "arc-length method: need a non-zero initial load increment (got {}), "
+        "desired_iterations >= 1 (got {}), max_growth >= 1 and max_shrink >= 1 (got {}, {})",
+        options.initial_load_increment, options.desired_iterations, options.max_growth, options.max_shrink));
   const double first_sign = options.initial_load_increment > 0.0 ? 1.0 : -1.0;
   if (arc_length_ <= 0.0) {
     // Δl of the first step: the tangent displacement of the initial load increment.

@@ -16,7 +16,7 @@ struct NewtonOptions {
   double tolerance = 1e-8;           ///< on increments of x (× L_ref √N), G (× √N), a (max)
   double residual_tolerance = 1e-6;  ///< on ‖g‖ relative to the force scale
   int max_iterations = 25;
-  int max_cutbacks = 5;              ///< halvings of a failed increment before giving up
+  int max_cutbacks = 5;  ///< halvings of a failed increment before giving up
   /// Modified Newton (NewmarkSolver, and StaticSolver under load control): keep the
   /// factorised iteration matrix across iterations and steps / load levels, and assemble
   /// and factorise it again only when an iteration reduces the residual by less than
@@ -120,8 +120,7 @@ class StaticSolver {
  private:
   /// Assembles K (with the follower load stiffness), the residual g = F_int - F_ext and the
   /// load direction q at (u_, load_factor). False for an inadmissible state.
-  bool assemble_system(double load_factor, Eigen::VectorXd& residual, Eigen::VectorXd& direction,
-                       double& force_scale);
+  bool assemble_system(double load_factor, Eigen::VectorXd& residual, Eigen::VectorXd& direction, double& force_scale);
   /// Moves the prescribed dofs to their values at `load_factor` with a linear predictor
   /// for the free dofs; false when the tangent is singular or the state inadmissible.
   bool predict_prescribed(double load_factor);
