@@ -6,12 +6,12 @@
 // its patch is lopsided (3/4 of its lumped mass on one side), which makes the lumped-mass
 // scheme only first-order consistent for smooth convected waves. Groups as tube.geo:
 // "left", "right", "sides".
-#include <algorithm>
 #include <array>
-#include <map>
+#include <cmath>
 #include <string>
 
 #include "shellflow/mesh/mesh.h"
+#include "support/box_mesh.h"
 
 namespace shellflow::fluid::test_support {
 
@@ -37,43 +37,12 @@ inline mesh::Mesh symmetric_tube(int nx, double width) {
         bits[std::size_t(p[s])] = 1;
         t[std::size_t(s + 1)] = node();
       }
-      const Vec3 x0 = m.nodes[std::size_t(t[0])];
-      const double vol = (m.nodes[std::size_t(t[1])] - x0)
-                             .dot((m.nodes[std::size_t(t[2])] - x0).cross(m.nodes[std::size_t(t[3])] - x0));
-      if (vol < 0) std::swap(t[2], t[3]);
-      m.cells.connectivity.insert(m.cells.connectivity.end(), t.begin(), t.end());
+      support::add_tet(m, t);
     }
-  // Boundary faces: faces of exactly one tetrahedron, grouped by position.
-  std::map<std::array<Index, 3>, int> count;
-  static constexpr int faces[4][3] = {{1, 2, 3}, {0, 2, 3}, {0, 1, 3}, {0, 1, 2}};
-  for (Index e = 0; e < m.num_cells(); ++e)
-    for (const auto& f : faces) {
-      const auto c = m.cells.element(e);
-      std::array<Index, 3> key{c[std::size_t(f[0])], c[std::size_t(f[1])], c[std::size_t(f[2])]};
-      std::sort(key.begin(), key.end());
-      ++count[key];
-    }
-  for (const char* name : {"left", "right", "sides"}) {
-    mesh::PhysicalGroup g;
-    g.name = name;
-    g.dim = 2;
-    g.elements.type = mesh::ElementType::tri3;
-    m.groups.push_back(g);
-  }
-  for (const auto& [key, n] : count) {
-    if (n != 1) continue;
-    auto on = [&](double x) {
-      return std::all_of(key.begin(), key.end(),
-                         [&](Index a) { return std::abs(m.nodes[std::size_t(a)].x() - x) < 1e-12; });
-    };
-    auto& g = m.groups[on(0.0) ? 0 : on(1.0) ? 1 : 2];
-    g.elements.connectivity.insert(g.elements.connectivity.end(), key.begin(), key.end());
-  }
-  for (auto& g : m.groups) {
-    g.nodes = g.elements.connectivity;
-    std::sort(g.nodes.begin(), g.nodes.end());
-    g.nodes.erase(std::unique(g.nodes.begin(), g.nodes.end()), g.nodes.end());
-  }
+  // Boundary faces grouped by position.
+  support::group_boundary_faces(m, [](const Vec3& c) -> std::string {
+    return std::abs(c.x()) < 1e-12 ? "left" : std::abs(c.x() - 1.0) < 1e-12 ? "right" : "sides";
+  });
   return m;
 }
 

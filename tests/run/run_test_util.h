@@ -26,6 +26,9 @@ class TempDir {
   std::filesystem::path path_;
 };
 
+/// The whole content of a file.
+std::string read_file(const std::filesystem::path& p);
+
 /// The cube [0, 2]^3 in 2 x 2 x 2 Kuhn cubes of 6 tetrahedra each (tests/support/box_mesh.h),
 /// named `name`, with the group "bottom" of the faces on z = 0.
 mesh::Mesh cube_mesh(const std::string& name);

@@ -16,14 +16,8 @@ namespace shellflow::run {
 namespace {
 
 using test::cube_mesh;
+using test::read_file;
 using test::TempDir;
-
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;

@@ -12,14 +12,8 @@
 namespace shellflow::run {
 namespace {
 
+using test::read_file;
 using test::TempDir;
-
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 io::Case a_case() {
   io::Case c;
