@@ -12,6 +12,8 @@ packages=(
   python3 python3-matplotlib python3-numpy python3-meshio
   # the fuzz preset (tests/fuzz): clang with libFuzzer and the sanitizer runtimes
   clang-14 libclang-rt-14-dev
+  # the format check of CI (scripts/check-format.sh)
+  clang-format-14
 )
 
 missing=()
