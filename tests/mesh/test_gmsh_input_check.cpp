@@ -2,6 +2,7 @@
 // mesh, and a damaged .msh is an InputError rather than a crash inside Gmsh 4.8.
 #include <gmsh.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -26,8 +27,10 @@ namespace fs = std::filesystem;
 namespace {
 const fs::path panel_dir = fs::path(shellflow::source_dir) / "cases" / "panel_flutter";
 
+/// A scratch folder of this test process (ctest runs tests of this file in parallel processes,
+/// which must not remove each other's files).
 fs::path fresh_dir(const std::string& name) {
-  auto dir = fs::temp_directory_path() / ("shellflow_test_input_check_" + name);
+  auto dir = fs::temp_directory_path() / ("shellflow_test_input_check_" + std::to_string(getpid()) + "_" + name);
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
