@@ -241,5 +241,32 @@ TEST(NewmarkState, RestoreTakesTheStateAsGiven) {
   EXPECT_THROW(solver.restore(s), InputError);
 }
 
+// The coupling iterations repeat a step from its start (NewmarkSolver::rewind): under
+// modified Newton the kept matrix stays and is not factorised again, and the repeated step
+// is the step made the first time, bit for bit.
+TEST(NewmarkRewind, RepeatingAStepKeepsTheFactorisedMatrixAndGivesTheSameStep) {
+  const ShellModel model = loaded_strip();
+  const double dt = 1e-4;
+  NewmarkOptions options;
+  options.newton.modified = true;
+  NewmarkSolver solver(model, options, [](double) { return 1.0; });
+  solver.set_initial_state(Eigen::VectorXd::Zero(model.num_dofs()), strip_velocity(model));
+  for (int s = 0; s < 3; ++s) solver.advance(dt);
+  const NewmarkState start = solver.state();
+  solver.advance(dt);
+  const NewmarkState once = solver.state();
+  const int factorizations = solver.matrix_factorizations();
+  for (int k = 0; k < 5; ++k) {
+    solver.rewind(start);
+    solver.advance(dt);
+    expect_same_bits(solver.state(), once);
+  }
+  EXPECT_EQ(solver.matrix_factorizations(), factorizations);
+  // restore() instead marks the matrix stale: the next step factorises again.
+  solver.restore(start);
+  solver.advance(dt);
+  EXPECT_EQ(solver.matrix_factorizations(), factorizations + 1);
+}
+
 }  // namespace
 }  // namespace shellflow::shell

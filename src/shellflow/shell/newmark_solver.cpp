@@ -132,6 +132,13 @@ void NewmarkSolver::restore(const NewmarkState& state) {
   refresh_matrix_ = false;
 }
 
+void NewmarkSolver::rewind(const NewmarkState& state) {
+  const bool factorized = matrix_factorized_, refresh = refresh_matrix_;
+  restore(state);
+  matrix_factorized_ = factorized;
+  refresh_matrix_ = refresh;
+}
+
 void NewmarkSolver::save(ArchiveWriter& out) const {
   out.put(u_);
   out.put(v_);

@@ -88,6 +88,10 @@ class NewmarkSolver {
   /// projection of the supports) and marks a kept modified-Newton iteration matrix stale.
   /// Throws InputError for vectors of the wrong size.
   void restore(const NewmarkState& state);
+  /// Puts the solver back to `state` to repeat the same step (coupling iterations): like
+  /// restore(), but a kept modified-Newton iteration matrix stays valid (the same step size
+  /// and model, a state near the one it was made for), so no refactorisation follows.
+  void rewind(const NewmarkState& state);
 
   /// Checkpoint (core/archive.h): the state and, under modified Newton, the kept iteration
   /// matrix (its values before the supports were eliminated, its mass coefficient and
