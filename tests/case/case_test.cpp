@@ -894,3 +894,70 @@ TEST(ReadCase, ShellModalAnalysis) {
 
 }  // namespace
 }  // namespace shellflow::io
+
+namespace shellflow::io {
+namespace {
+
+// A piston-theory coupled case with `extra` appended to its coupling section.
+std::string coupled_text(const std::string& extra) {
+  return "name: t\n"
+         "meshes: { shell: { geo: panel_strip.geo, order: 3 } }\n"
+         "shell:\n"
+         "  thickness: 1.35e-3\n"
+         "  material: { young_modulus: 77.28e9, poisson_ratio: 0.33, density: 2710 }\n"
+         "  analysis: { type: dynamic }\n"
+         "fluid:\n"
+         "  model: piston_theory\n"
+         "  free_stream: { density: 0.339, pressure: 28000, mach: 2.3, direction: [1, 0, 0] }\n"
+         "time: { end: 0.01, step: 1.0e-4 }\n"
+         "coupling:\n"
+         "  wet_normal: [0, 1, 0]\n" +
+         extra;
+}
+
+TEST(ReadCaseCoupling, IterationsAndAccelerationKeys) {
+  const Case loose = read_case_string(coupled_text(""), data("inline.yaml"));
+  EXPECT_EQ(loose.coupling->iterations, 1);
+  EXPECT_EQ(loose.coupling->tolerance, 1e-6);
+  EXPECT_EQ(loose.coupling->acceleration.type, CouplingSection::Acceleration::Type::none);
+  const Case aitken = read_case_string(coupled_text("  iterations: 20\n  tolerance: 1e-8\n  acceleration: aitken\n"),
+                                       data("inline.yaml"));
+  EXPECT_EQ(aitken.coupling->iterations, 20);
+  EXPECT_EQ(aitken.coupling->tolerance, 1e-8);
+  EXPECT_EQ(aitken.coupling->acceleration.type, CouplingSection::Acceleration::Type::aitken);
+  EXPECT_EQ(aitken.coupling->acceleration.relaxation, 0.5);
+  const Case iqn = read_case_string(
+      coupled_text("  iterations: 30\n  acceleration: { type: iqn_ils, relaxation: 0.1, columns: 40, reuse: 3, "
+                   "filter: 1e-3 }\n"),
+      data("inline.yaml"));
+  const auto& a = iqn.coupling->acceleration;
+  EXPECT_EQ(a.type, CouplingSection::Acceleration::Type::iqn_ils);
+  EXPECT_EQ(a.relaxation, 0.1);
+  EXPECT_EQ(a.columns, 40);
+  EXPECT_EQ(a.reuse, 3);
+  EXPECT_EQ(a.filter, 1e-3);
+}
+
+TEST(ReadCaseCoupling, IterationsAndAccelerationErrors) {
+  EXPECT_EQ(text_error(coupled_text("  acceleration: iqn_ils\n")),
+            at("inline.yaml", 13,
+               "coupling.acceleration: an acceleration acts between coupling iterations: set 'iterations' above 1 "
+               "(e.g. 20)"));
+  EXPECT_EQ(text_error(coupled_text("  iterations: 0\n")),
+            at("inline.yaml", 13, "coupling.iterations: must be in [1, 1000], got 0"));
+  EXPECT_EQ(text_error(coupled_text("  iterations: 5\n  acceleration: iqn\n")),
+            at("inline.yaml", 14,
+               "coupling.acceleration: unknown value 'iqn'; expected one of: none, constant, aitken, iqn_ils"));
+  // Only the keys of the acceleration's type.
+  EXPECT_EQ(text_error(coupled_text("  iterations: 5\n  acceleration: { type: aitken, columns: 5 }\n")),
+            at("inline.yaml", 14, "coupling.acceleration.columns: unknown key; expected one of: type, relaxation"));
+  EXPECT_EQ(text_error(coupled_text("  iterations: 5\n  acceleration: { type: iqn_ils, filter: 1 }\n")),
+            at("inline.yaml", 14, "coupling.acceleration.filter: must be in [0, 1), got 1"));
+  EXPECT_EQ(text_error(coupled_text("  scheme: monolithic\n  iterations: 5\n")),
+            at("inline.yaml", 14,
+               "coupling.iterations: the monolithic scheme solves the coupling inside the shell's Newton "
+               "iteration: remove 'iterations' (or use scheme: staggered)"));
+}
+
+}  // namespace
+}  // namespace shellflow::io

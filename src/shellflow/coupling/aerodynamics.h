@@ -42,6 +42,21 @@ class AerodynamicModel {
   /// Checkpoint of the model's state (core/archive.h); piston theory has none.
   virtual void save(ArchiveWriter&) const {}
   virtual void restore(ArchiveReader&) {}
+
+  /// An in-memory mark of the state (the coupling iterations' start of the step), and the
+  /// way back to it, exact: the checkpoint's save/restore into memory.
+  void mark() {
+    ArchiveWriter out;
+    save(out);
+    mark_ = out.bytes();
+  }
+  void rewind() {
+    ArchiveReader in(mark_, "the coupling iterations' mark of the flow");
+    restore(in);
+  }
+
+ private:
+  std::string mark_;
 };
 
 /// Piston theory as an aerodynamic model: nothing to advance; the loads follow from the

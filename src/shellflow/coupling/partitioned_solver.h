@@ -7,9 +7,11 @@
 //   3. the Hermite window of the step handed to the aerodynamic model, which advances the
 //      flow to t_i+1 (sub-cycled, mesh moved through the space mesh);
 //   4. the loads of t_i+1 from the flow at the shell's load points.
-// step() is a loop over coupling iterations (one iteration: the conventional serial
-// staggered scheme), on top of the solvers' exact state save/restore, so that an implicit
-// variant with Aitken / IQN-ILS relaxation adds an acceleration class, not a reshaping.
+// step() is a loop over coupling iterations (coupling_iterations.h). One iteration is the
+// conventional serial staggered scheme; with coupling.iterations > 1 steps 1-4 repeat from
+// the start of the step (the shell rewound keeping its iteration matrix, the flow, fluid
+// mesh and space mesh from an in-memory mark) with the loads the acceleration chooses, until
+// the loads of t_i+1 match those applied (the implicit scheme).
 //
 // `monolithic` (piston theory only): the aerodynamic operator is inside the shell's Newton
 // iteration (NewmarkSolver::set_linear_load), no loads are exchanged: the reference the
@@ -18,6 +20,7 @@
 #include <vector>
 
 #include "shellflow/coupling/aerodynamics.h"
+#include "shellflow/coupling/coupling_iterations.h"
 #include "shellflow/coupling/load_point_basis.h"
 #include "shellflow/coupling/shell_motion.h"
 #include "shellflow/shell/newmark_solver.h"
@@ -25,21 +28,22 @@
 
 namespace shellflow::coupling {
 
-enum class LoadPredictor { none, linear };
-
 struct PartitionedOptions {
   LoadPredictor predictor = LoadPredictor::linear;
   bool monolithic = false;
-  int max_iterations = 1;  ///< coupling iterations per step (1: explicit staggered)
+  CouplingIterationOptions iterations;  ///< max 1: explicit staggered
 };
 
 struct CouplingStepReport {
   double time = 0.0;
   int newton_iterations = 0;
   int coupling_iterations = 0;
+  double coupling_residual = 0.0;  ///< relative weighted load residual of the last iteration
   FlowStepReport flow;
   double shell_seconds = 0.0;       ///< wall time of the shell step(s)
   double transfer_seconds = 0.0;    ///< wall time of the load transfer and the force balance
+  double iteration_seconds = 0.0;   ///< wall time of the coupling iterations' own work (flow mark
+                                    ///< and rewinds, shell rewinds, acceleration)
   Vec3 shell_force = Vec3::Zero();  ///< resultant of the exchanged pressure on the shell
   std::optional<Vec3> fluid_force;  ///< the same from the fluid side (when there is a mesh)
 };
@@ -54,7 +58,8 @@ class PartitionedSolver {
                     ShellStepMotion& motion, PartitionedOptions options);
 
   /// Advances shell and flow by one shell step dt. Throws SolverError (naming the time) when
-  /// a solver fails; the solvers keep their last valid states.
+  /// a solver fails, when the coupling iterations do not converge, or when the loads are no
+  /// longer finite; the solvers are then back at the start of the step.
   CouplingStepReport step(double dt);
 
   double time() const { return shell_.time(); }
@@ -66,23 +71,28 @@ class PartitionedSolver {
   const PartitionedOptions& options() const { return options_; }
 
   /// Checkpoint of the coupled state (core/archive.h): the shell solver (with its kept
-  /// iteration matrix), the aerodynamic model (flow, fluid mesh, mover) and the loads of
-  /// the last two steps (the predictor's history). restore() also puts the shell motion's
-  /// window at the restored state.
+  /// iteration matrix), the aerodynamic model (flow, fluid mesh, mover), the loads of
+  /// the last two steps (the predictor's history) and the acceleration's history. restore()
+  /// also puts the shell motion's window at the restored state.
   void save(ArchiveWriter& out) const;
   void restore(ArchiveReader& in);
 
  private:
-  void apply_loads();
+  void apply_loads(std::span<const double> loads);
+  /// The first guess of the loads of the step's end: the predictor's.
+  void predict();
+  /// Back to the start of the step after a failed iteration, then throws SolverError.
+  [[noreturn]] void fail(const shell::NewmarkState& start, const std::string& why);
 
   shell::ShellModel& model_;
   shell::NewmarkSolver& shell_;
   AerodynamicModel& flow_;
   ShellStepMotion& motion_;
   PartitionedOptions options_;
-  std::vector<double> current_, previous_, next_, applied_, point_pressure_;
+  std::vector<double> current_, previous_, next_, guess_, point_pressure_;
   bool has_previous_ = false;
   LoadPointBasis basis_;  ///< for the force balance in the current configuration
+  CouplingIterations iterations_;
 };
 
 }  // namespace shellflow::coupling

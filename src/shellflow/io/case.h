@@ -82,6 +82,19 @@ struct CouplingSection {
   enum class Scheme { staggered, monolithic } scheme = Scheme::staggered;
   int substeps = 0;  ///< fluid steps per shell step; 0 = auto (from the stable step and cfl)
   enum class Predictor { none, linear } predictor = Predictor::linear;
+  /// Coupling iterations per shell step (1: the explicit staggered scheme) and the relative
+  /// load residual that ends them (docs/coupling.md "Implicit coupling").
+  int iterations = 1;
+  double tolerance = 1e-6;
+  /// `coupling.acceleration`: a name, or a map with `type` and the parameters.
+  struct Acceleration {
+    enum class Type { none, constant, aitken, iqn_ils } type = Type::none;
+    double relaxation = 0.5;  ///< constant: w; aitken, iqn_ils: the first step's w
+    int columns = 100;        ///< iqn_ils: most columns used
+    int reuse = 8;            ///< iqn_ils: past shell steps whose columns are reused
+    double filter = 1e-10;    ///< iqn_ils: QR filter (relative)
+    SourceLocation where;
+  } acceleration;
   enum class MeshVelocity { positions, interpolated } mesh_velocity = MeshVelocity::positions;
   /// Absolute pressure on the shell's dry face [Pa]; absent: the free-stream pressure.
   std::optional<TimeFunction> cavity_pressure;
@@ -231,5 +244,6 @@ std::string_view to_string(MotionMethod m);
 std::string_view to_string(ShellLoadType t);
 std::string_view to_string(StudySection::Parameter p);
 std::string_view to_string(MotionWeighting w);
+std::string_view to_string(CouplingSection::Acceleration::Type t);
 
 }  // namespace shellflow::io

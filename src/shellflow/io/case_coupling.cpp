@@ -1,11 +1,13 @@
 // The `coupling` section of a case file: a coupled fluid–shell run.
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
 
 #include "shellflow/core/error.h"
+#include "shellflow/io/case_names.h"
 #include "shellflow/io/case_sections.h"
 
 namespace shellflow::io::detail {
@@ -37,6 +39,29 @@ ResponseSection read_response(const YamlNode& node) {
   return r;
 }
 
+/// `coupling.acceleration`: `aitken`, or `{type: iqn_ils, relaxation: 0.1, ...}`.
+CouplingSection::Acceleration read_acceleration(const YamlNode& parent) {
+  using A = CouplingSection::Acceleration;
+  A a;
+  a.where = parent.location("acceleration");
+  if (!parent.yaml()[std::string("acceleration")].IsMap()) {
+    a.type = read_enum(parent, "acceleration", kAccelerationTypes);
+    return a;
+  }
+  const YamlNode node = parent.child("acceleration");
+  a.type = read_enum(node, "type", kAccelerationTypes);
+  const bool iqn = a.type == A::Type::iqn_ils;
+  if (a.type == A::Type::constant || a.type == A::Type::aitken || iqn)
+    a.relaxation = node.optional<double>("relaxation", a.relaxation, Range{0.0, 2.0, true, false});
+  if (iqn) {
+    a.columns = node.optional<int>("columns", a.columns, Range::in_range(1, 10000));
+    a.reuse = node.optional<int>("reuse", a.reuse, Range::in_range(0, 1000));
+    a.filter = node.optional<double>("filter", a.filter, Range{0.0, 1.0, false, true});
+  }
+  node.finish();
+  return a;
+}
+
 }  // namespace
 
 CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
@@ -56,6 +81,15 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
   }
   c.predictor = node.choice("predictor", {"none", "linear"}, "linear") == "none" ? CouplingSection::Predictor::none
                                                                                  : CouplingSection::Predictor::linear;
+  c.iterations = node.optional<int>("iterations", 1, Range::in_range(1, 1000));
+  c.tolerance = node.optional<double>("tolerance", 1e-6, Range::open(0.0, 1.0));
+  if (node.has("acceleration")) c.acceleration = read_acceleration(node);
+  if (c.iterations > 1 && c.scheme == CouplingSection::Scheme::monolithic)
+    node.fail("iterations",
+              "the monolithic scheme solves the coupling inside the shell's Newton iteration: remove "
+              "'iterations' (or use scheme: staggered)");
+  if (c.iterations == 1 && node.has("acceleration") && c.acceleration.type != CouplingSection::Acceleration::Type::none)
+    node.fail("acceleration", "an acceleration acts between coupling iterations: set 'iterations' above 1 (e.g. 20)");
   c.mesh_velocity = node.choice("mesh_velocity", {"positions", "interpolated"}, "positions") == "interpolated"
                         ? CouplingSection::MeshVelocity::interpolated
                         : CouplingSection::MeshVelocity::positions;
@@ -139,6 +173,10 @@ void check_coupled_case(const Case& c) {
 }  // namespace shellflow::io::detail
 
 namespace shellflow::io {
+
+std::string_view to_string(CouplingSection::Acceleration::Type t) {
+  return detail::name_of(detail::kAccelerationTypes, t);
+}
 
 std::optional<std::size_t> response_probe(const Case& c) {
   const std::string name = c.coupling ? c.coupling->response.probe : std::string();

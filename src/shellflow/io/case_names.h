@@ -180,4 +180,12 @@ inline constexpr std::array<EnumName<StudySection::Parameter>, 4> kStudyParamete
 }};
 static_assert(covers_in_order(kStudyParameters));
 
+inline constexpr std::array<EnumName<CouplingSection::Acceleration::Type>, 4> kAccelerationTypes = {{
+    {CouplingSection::Acceleration::Type::none, "none"},
+    {CouplingSection::Acceleration::Type::constant, "constant"},
+    {CouplingSection::Acceleration::Type::aitken, "aitken"},
+    {CouplingSection::Acceleration::Type::iqn_ils, "iqn_ils"},
+}};
+static_assert(covers_in_order(kAccelerationTypes));
+
 }  // namespace shellflow::io::detail

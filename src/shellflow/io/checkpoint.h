@@ -33,7 +33,7 @@ struct Mesh;
 
 namespace shellflow::io {
 
-inline constexpr std::uint32_t kCheckpointFormat = 2;  // 2: the instruction set in the header
+inline constexpr std::uint32_t kCheckpointFormat = 3;  // 2: the instruction set in the header; 3: coupling iterations
 
 /// A named digest of one part of a run's input: a top-level section of the case file
 /// ("shell", "fluid", ...) or a mesh ("mesh fluid").

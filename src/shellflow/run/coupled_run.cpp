@@ -18,14 +18,29 @@ namespace {
 
 void log_system(const io::Case& c, const setup::CoupledSystem& s) {
   const bool has_flow = c.fluid.has_value();
+  const coupling::PartitionedOptions& o = s.driver->options();
+  const std::string scheme =
+      !has_flow      ? "no loads exchanged (the shell moves the fluid mesh)"
+      : o.monolithic ? "monolithic scheme"
+                     : fmt::format("{} scheme {} the linear load predictor",
+                                   o.iterations.max_iterations > 1
+                                       ? fmt::format("implicit staggered (up to {} iterations to {:.1e}, {})",
+                                                     o.iterations.max_iterations, o.iterations.tolerance,
+                                                     coupling::to_string(o.iterations.acceleration.type))
+                                       : std::string("staggered"),
+                                   o.predictor == coupling::LoadPredictor::linear ? "with" : "without");
   spdlog::info("coupled run: shell {} nodes / {} load points, aerodynamics '{}'{}, {}", s.shell->num_nodes(),
                s.shell->load_points().size(), s.aerodynamics->name(),
-               s.flow && s.flow->flow() ? fmt::format(" ({} fluid nodes)", s.fluid_mesh->num_nodes()) : "",
-               !has_flow                        ? "no loads exchanged (the shell moves the fluid mesh)"
-               : s.driver->options().monolithic ? "monolithic scheme"
-               : s.driver->options().predictor == coupling::LoadPredictor::linear
-                   ? "staggered scheme with the linear load predictor"
-                   : "staggered scheme without load predictor");
+               s.flow && s.flow->flow() ? fmt::format(" ({} fluid nodes)", s.fluid_mesh->num_nodes()) : "", scheme);
+  // The explicit scheme's added-mass limit (docs/coupling.md "Implicit coupling").
+  const double ratio = setup::added_mass_ratio(c);
+  if (!has_flow || o.monolithic || o.iterations.max_iterations > 1 || ratio == 0.0) return;
+  const double limit = coupling::staggered_critical_ratio(o.predictor);
+  if (ratio > 0.5 * limit)
+    spdlog::warn(
+        "{}: the added-mass ratio rho_inf a_inf dt / (rho_s h) = {:.3g} is {} the explicit staggered scheme's "
+        "limit {:.3g}: use coupling.iterations: 20 with coupling.acceleration: iqn_ils, or a smaller time.step",
+        c.file.string(), ratio, ratio > limit ? "above" : "near", limit);
 }
 
 const motion::SpaceMesh& space_mesh_of(const coupling::FlowModel& flow) {

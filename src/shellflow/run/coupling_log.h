@@ -1,5 +1,6 @@
 #pragma once
-// The record of a coupled run's shell steps: coupling.csv (Newton iterations, fluid
+// The record of a coupled run's shell steps: coupling.csv (Newton and coupling iterations,
+// the coupling residual, fluid
 // sub-steps, the shell's and the fluid's resultant forces and their balance per step), the
 // totals for the summary, and the wall time by part.
 #include <filesystem>
@@ -25,10 +26,10 @@ class CouplingLog {
 
  private:
   io::ProbeWriter csv_;
-  long steps_ = 0, newton_total_ = 0, substeps_total_ = 0;
+  long steps_ = 0, newton_total_ = 0, coupling_total_ = 0, substeps_total_ = 0;
   double worst_balance_ = 0.0;
   double setup_seconds_ = 0.0, steps_seconds_ = 0.0, shell_seconds_ = 0.0, mesh_seconds_ = 0.0, flow_seconds_ = 0.0,
-         transfer_seconds_ = 0.0;
+         transfer_seconds_ = 0.0, iteration_seconds_ = 0.0;
 };
 
 }  // namespace shellflow::run

@@ -16,6 +16,23 @@
 namespace shellflow::setup {
 namespace {
 
+coupling::CouplingIterationOptions iteration_options(const io::CouplingSection& k) {
+  using A = io::CouplingSection::Acceleration::Type;
+  coupling::CouplingIterationOptions o;
+  o.max_iterations = k.iterations;
+  o.tolerance = k.tolerance;
+  const auto& a = k.acceleration;
+  o.acceleration.type = a.type == A::constant  ? coupling::AccelerationType::constant
+                        : a.type == A::aitken  ? coupling::AccelerationType::aitken
+                        : a.type == A::iqn_ils ? coupling::AccelerationType::iqn_ils
+                                               : coupling::AccelerationType::none;
+  o.acceleration.relaxation = a.relaxation;
+  o.acceleration.columns = a.columns;
+  o.acceleration.reuse = a.reuse;
+  o.acceleration.filter = a.filter;
+  return o;
+}
+
 /// The wetted side must be one face of the whole shell: every load point the same sign.
 double uniform_sign(std::span<const double> sign, const io::CouplingSection& k) {
   for (const double s : sign)
@@ -130,8 +147,16 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
   options.monolithic = monolithic;
   options.predictor = k.predictor == io::CouplingSection::Predictor::linear ? coupling::LoadPredictor::linear
                                                                             : coupling::LoadPredictor::none;
+  options.iterations = iteration_options(k);
   s.driver = std::make_unique<coupling::PartitionedSolver>(model, *s.solver, *s.aerodynamics, *s.motion, options);
   return s;
+}
+
+double added_mass_ratio(const io::Case& c) {
+  if (!c.fluid || !c.shell || !c.time) return 0.0;
+  const auto& f = c.fluid->free_stream;
+  const double sound_speed = std::sqrt(c.fluid->gas.gamma * f.pressure / f.density);
+  return f.density * sound_speed * c.time->step / (c.shell->material.density * c.shell->thickness);
 }
 
 coupling::PistonTheoryFlow piston_flow(const io::Case& c, const Vec3& wet_normal) {

@@ -35,6 +35,10 @@ struct CoupledSystem {
 /// Throws InputError (maps, gaps, orientation, groups) with the case file's context.
 CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes);
 
+/// The added-mass ratio of the explicit staggered scheme, rho_inf a_inf dt / (rho_s h)
+/// (docs/coupling.md "Implicit coupling"); 0 without a flow.
+double added_mass_ratio(const io::Case& c);
+
 /// The piston-theory stream of a case's fluid.free_stream, wetting the face `wet_normal`
 /// points out of.
 coupling::PistonTheoryFlow piston_flow(const io::Case& c, const Vec3& wet_normal);
