@@ -219,7 +219,7 @@ class CoupledRuns(unittest.TestCase):
         self.assertIn("coupled run: 300 shell steps", r.stderr)
         with open(os.path.join(out, "coupling.csv"), newline="") as f:
             rows = list(csv.reader(f))
-        self.assertEqual(rows[0][:3], ["time", "newton_iterations", "substeps"])
+        self.assertEqual(rows[0][:5], ["time", "newton_iterations", "coupling_iterations", "coupling_residual", "substeps"])
         self.assertEqual(len(rows), 301)
         with open(os.path.join(out, "probes.csv"), newline="") as f:
             w = [abs(float(row[1])) for row in list(csv.reader(f))[1:]]
@@ -227,6 +227,42 @@ class CoupledRuns(unittest.TestCase):
         self.assertGreater(max(w[200:]), 1.5 * max(w[100:200]))
         self.assertTrue(os.path.getsize(os.path.join(out, "flutter_growth.png")) > 1000)
         self.assertTrue(os.path.exists(os.path.join(out, "response.json")))  # every coupled run
+
+    def test_strong_coupling_needs_the_coupling_iterations(self):
+        # cases/strong_coupling: rho c dt / (rho_s h) = 2 (docs/coupling.md, "Implicit coupling").
+        case = os.path.join(ROOT, "cases", "strong_coupling", "thin_sheet_dense_gas.yaml")
+        out = os.path.join(self.tmp.name, "iqn")
+        r = shellflow("run", case, "-o", out, "--no-plot", "--set", "time.end=0.01")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "coupling.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 100)
+        iterations = [int(float(row["coupling_iterations"])) for row in rows]
+        self.assertTrue(all(2 <= k <= 30 for k in iterations), iterations)
+        self.assertTrue(all(float(row["coupling_residual"]) <= 1e-6 for row in rows))
+        with open(os.path.join(out, "probes.csv"), newline="") as f:
+            w = [abs(float(row[1])) for row in list(csv.reader(f))[1:]]
+        self.assertLess(max(w), 1e-5)  # the 1e-6 dip moves the sheet by micrometres
+        # The loose scheme blows up: one clear line naming the step and what to change.
+        loose = os.path.join(self.tmp.name, "loose")
+        r = shellflow("run", case, "-o", loose, "--no-plot", "--set", "coupling.iterations=1",
+                      "--set", "coupling.acceleration=none")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("warning: " + case + ": the added-mass ratio rho_inf a_inf dt / (rho_s h) = 2.01", r.stderr)
+        last = r.stderr.strip().splitlines()[-1]
+        self.assertRegex(last, r"^shellflow: error: t = [0-9.]+ s: the loads from the flow missed the predicted ones")
+        self.assertIn("blew up", last)
+        self.assertIn("coupling.acceleration: iqn_ils", last)
+        self.assertRegex(last, r"\(step [0-9]+\); the last valid state")
+        # The plain fixed point converges too slowly for 10 iterations.
+        plain = os.path.join(self.tmp.name, "plain")
+        r = shellflow("run", case, "-o", plain, "--no-plot", "--set", "coupling.iterations=10",
+                      "--set", "coupling.acceleration=none")
+        self.assertNotEqual(r.returncode, 0)
+        last = r.stderr.strip().splitlines()[-1]
+        self.assertRegex(last, r"^shellflow: error: t = 0.0001 s: the coupling iterations did not converge in 10 "
+                               r"iterations \(relative load residual [0-9.e+-]+ > coupling.tolerance 1.000e-06\)")
+        self.assertIn("(step 1)", last)
 
     def piston_case_with_response(self, response, end="0.08"):
         text = panel_case_text(os.path.join(ROOT, "cases", "panel_flutter", "clamped_sliding_piston.yaml"))

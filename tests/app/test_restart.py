@@ -29,6 +29,12 @@ RUNS = {
     "mesh_motion": ("motion/panel_single_mode_laplace.yaml", ["output.every=3"], 7),
     "piston_coupled": ("panel_flutter/clamped_clamped_piston.yaml", ["time.end=0.01", "output.every=7"], 33),
     "euler_coupled": ("panel_flutter/clamped_clamped_coarse.yaml", ["time.end=0.002", "output.every=3"], 7),
+    # Coupling iterations: the restart must carry the acceleration's history (IQN-ILS columns
+    # of past steps, Aitken's factor) to stay bit-exact.
+    "iqn_ils_coupled": ("strong_coupling/thin_sheet_dense_gas.yaml", ["time.end=0.002", "output.every=3"], 9),
+    "aitken_coupled": ("panel_flutter/clamped_clamped_piston.yaml",
+                       ["time.end=0.005", "output.every=7", "coupling.iterations=20", "coupling.tolerance=1e-9",
+                        "coupling.acceleration=aitken"], 21),
 }
 PISTON = os.path.join(CASES, "panel_flutter", "clamped_clamped_piston.yaml")
 
@@ -165,6 +171,13 @@ class RestartRuns(unittest.TestCase):
     def test_euler_coupled_flutter(self):
         for threads in (1, 2):
             self.straight_and_in_pieces("euler_coupled", threads)
+
+    def test_implicit_coupling_iqn_ils(self):
+        for threads in (1, 2):
+            self.straight_and_in_pieces("iqn_ils_coupled", threads)
+
+    def test_implicit_coupling_aitken(self):
+        self.straight_and_in_pieces("aitken_coupled", 1)
 
     def test_three_pieces_periodic_checkpoints_and_an_older_checkpoint(self):
         overrides = ["time.end=0.01", "output.every=7", "output.checkpoint_every=10"]
