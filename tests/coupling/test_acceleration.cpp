@@ -161,6 +161,29 @@ TEST(Acceleration, RestoreThenIterateEqualsIterateBitForBit) {
   }
 }
 
+TEST(Acceleration, TheExplicitSchemesBlowUpMonitor) {
+  // Loads that flip sign every step and grow 1.5-fold per step: diverged as soon as the
+  // monitor looks (step 20: the predictor misses by 2.3 times the load, which is 58 times
+  // its peak before the last ten steps); the same loads at the round-off level (below
+  // noise_pressure) are left alone, as are smoothly growing loads.
+  auto o = options(AccelerationType::none, 1);
+  o.noise_pressure = 1e-6;
+  const auto steps_to_blow_up = [&](double scale, bool alternate) {
+    CouplingIterations it(o, {1.0, 1.0});
+    double previous = 0.0;
+    for (int n = 1; n <= 100; ++n) {
+      const double load = scale * std::pow(1.5, n) * (alternate && n % 2 ? -1.0 : 1.0);
+      it.begin(std::vector<double>{2 * previous, 2 * previous});  // whatever the predictor says
+      previous = load;
+      if (it.result(std::vector<double>{load, load}) == Outcome::diverged) return n;
+    }
+    return 0;
+  };
+  EXPECT_EQ(steps_to_blow_up(1e-3, true), 20);
+  EXPECT_EQ(steps_to_blow_up(1e-30, true), 0);  // 1e-30 x 1.5^100 = 4e-13 < 1e-6
+  EXPECT_EQ(steps_to_blow_up(1e-3, false), 0);
+}
+
 TEST(StaggeredStability, CriticalAddedMassRatios) {
   // Resolved modes (omega dt -> 0): the loose scheme is stable for rho c dt / m < 2 without
   // a predictor, < 2/sqrt(3) with the linear one.
@@ -209,9 +232,7 @@ class AcousticColumn {
     std::size_t plus_head, minus_head;
   };
   Mark mark() const { return {plus_, minus_, plus_head_, minus_head_}; }
-  void rewind(const Mark& m) {
-    plus_ = m.plus, minus_ = m.minus, plus_head_ = m.plus_head, minus_head_ = m.minus_head;
-  }
+  void rewind(const Mark& m) { plus_ = m.plus, minus_ = m.minus, plus_head_ = m.plus_head, minus_head_ = m.minus_head; }
 
  private:
   double impedance_;
@@ -221,8 +242,8 @@ class AcousticColumn {
 };
 
 struct PistonRun {
-  bool completed = true;  ///< false: the coupling iterations failed (not converged / diverged)
-  double decay = 0.0;     ///< fitted decay rate, 1/s
+  bool completed = true;       ///< false: the coupling iterations failed (not converged / diverged)
+  double decay = 0.0;          ///< fitted decay rate, 1/s
   double amplification = 0.0;  ///< of the loads' second difference: last quarter / second quarter
   double mean_iterations = 0.0;
   double final_x = 0.0;
@@ -345,7 +366,8 @@ TEST(PistonProblem, AboveTheLimitAitkenAndIqnIlsConvergeToTheImplicitSolution) {
   // Monolithic Newmark with the damper: (m + z dt/2 + k dt^2/4) a1 = -k (x + dt v + dt^2 a/4) - z (v + dt a/2).
   double x = 1.0, v = 0.0, a = -x;
   for (int n = 0; n < 400; ++n) {
-    const double a1 = (-(x + dt * v + 0.25 * dt * dt * a) - z * (v + 0.5 * dt * a)) / (1.0 + 0.5 * z * dt + 0.25 * dt * dt);
+    const double a1 =
+        (-(x + dt * v + 0.25 * dt * dt * a) - z * (v + 0.5 * dt * a)) / (1.0 + 0.5 * z * dt + 0.25 * dt * dt);
     x += dt * v + 0.25 * dt * dt * (a + a1);
     v += 0.5 * dt * (a + a1);
     a = a1;

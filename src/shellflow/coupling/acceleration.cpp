@@ -10,10 +10,14 @@ namespace shellflow::coupling {
 
 std::string_view to_string(AccelerationType t) {
   switch (t) {
-    case AccelerationType::none: return "none";
-    case AccelerationType::constant: return "constant";
-    case AccelerationType::aitken: return "aitken";
-    case AccelerationType::iqn_ils: return "iqn_ils";
+    case AccelerationType::none:
+      return "none";
+    case AccelerationType::constant:
+      return "constant";
+    case AccelerationType::aitken:
+      return "aitken";
+    case AccelerationType::iqn_ils:
+      return "iqn_ils";
   }
   return "?";
 }
@@ -205,10 +209,14 @@ class IqnIls final : public Acceleration {
 
 std::unique_ptr<Acceleration> make_acceleration(const AccelerationOptions& o, std::vector<double> weight) {
   switch (o.type) {
-    case AccelerationType::none: return std::make_unique<NoAcceleration>();
-    case AccelerationType::constant: return std::make_unique<ConstantRelaxation>(o.relaxation);
-    case AccelerationType::aitken: return std::make_unique<Aitken>(o.relaxation, std::move(weight));
-    case AccelerationType::iqn_ils: return std::make_unique<IqnIls>(o, std::move(weight));
+    case AccelerationType::none:
+      return std::make_unique<NoAcceleration>();
+    case AccelerationType::constant:
+      return std::make_unique<ConstantRelaxation>(o.relaxation);
+    case AccelerationType::aitken:
+      return std::make_unique<Aitken>(o.relaxation, std::move(weight));
+    case AccelerationType::iqn_ils:
+      return std::make_unique<IqnIls>(o, std::move(weight));
   }
   throw Error("coupling: unknown acceleration");
 }

@@ -11,6 +11,7 @@ CouplingIterations::CouplingIterations(CouplingIterationOptions options, std::ve
     : options_(options), weight_(std::move(weight)), acceleration_(make_acceleration(options.acceleration, weight_)) {
   x_.assign(weight_.size(), 0.0);
   difference_.assign(weight_.size(), 0.0);
+  noise_norm_ = weighted_norm(std::vector<double>(weight_.size(), options_.noise_pressure), weight_);
 }
 
 void CouplingIterations::begin(std::span<const double> guess) {
@@ -44,8 +45,9 @@ CouplingIterations::Outcome CouplingIterations::explicit_step(double load_norm) 
   std::rotate(recent_.begin(), recent_.begin() + 1, recent_.end());
   recent_.back() = {residual_, load_norm};
   if (++steps_ < 2 * std::int64_t(recent_.size())) return Outcome::done;
-  const auto missed = std::count_if(recent_.begin(), recent_.end(), [](const Recent& r) { return r.residual > kBlowUpMiss; });
-  const bool grew = load_norm > kBlowUpGrowth * earlier_peak_;
+  const auto missed =
+      std::count_if(recent_.begin(), recent_.end(), [](const Recent& r) { return r.residual > kBlowUpMiss; });
+  const bool grew = load_norm > kBlowUpGrowth * earlier_peak_ && load_norm > noise_norm_;
   return missed >= kBlowUpMissed && grew ? Outcome::diverged : Outcome::done;
 }
 

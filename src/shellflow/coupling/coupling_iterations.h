@@ -23,9 +23,12 @@ namespace shellflow::coupling {
 enum class LoadPredictor { none, linear };
 
 struct CouplingIterationOptions {
-  int max_iterations = 1;  ///< per shell step (1: explicit staggered)
+  int max_iterations = 1;   ///< per shell step (1: explicit staggered)
   double tolerance = 1e-6;  ///< of the relative weighted load residual
   AccelerationOptions acceleration;
+  /// The explicit scheme's blow-up monitor takes loads of an RMS pressure below this for
+  /// round-off (a flow at rest over a shell at rest), whatever they do.
+  double noise_pressure = 0.0;
 };
 
 class CouplingIterations {
@@ -39,7 +42,8 @@ class CouplingIterations {
   /// The explicit scheme is taken to have blown up when the predicted loads missed the
   /// flow's by more than half their size (relative residual > kBlowUpMiss) in kBlowUpMissed
   /// of the last kBlowUpWindow steps and the loads are now kBlowUpGrowth times larger than
-  /// ever before those steps (tested from step 2 kBlowUpWindow on, after the start-up): a
+  /// ever before those steps and above the noise (tested from step 2 kBlowUpWindow on,
+  /// after the start-up): a
   /// load that jumps from step to step and grows by an order of magnitude is no motion the
   /// step resolves.
   static constexpr int kBlowUpWindow = 10, kBlowUpMissed = 7;
@@ -73,11 +77,12 @@ class CouplingIterations {
 
   CouplingIterationOptions options_;
   std::vector<double> weight_, x_, difference_;
+  double noise_norm_ = 0.0;  ///< options_.noise_pressure in the weighted norm
   std::unique_ptr<Acceleration> acceleration_;
   int iteration_ = 0;
   double residual_ = 0.0;
-  std::int64_t steps_ = 0;     ///< explicit steps taken
-  double earlier_peak_ = 0.0;  ///< the largest load norm before the recent steps
+  std::int64_t steps_ = 0;                      ///< explicit steps taken
+  double earlier_peak_ = 0.0;                   ///< the largest load norm before the recent steps
   std::array<Recent, kBlowUpWindow> recent_{};  ///< oldest first
 };
 

@@ -148,6 +148,8 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
   options.predictor = k.predictor == io::CouplingSection::Predictor::linear ? coupling::LoadPredictor::linear
                                                                             : coupling::LoadPredictor::none;
   options.iterations = iteration_options(k);
+  // Pressure rises below 1e-10 of the free stream's are round-off to the blow-up monitor.
+  if (c.fluid) options.iterations.noise_pressure = 1e-10 * c.fluid->free_stream.pressure;
   s.driver = std::make_unique<coupling::PartitionedSolver>(model, *s.solver, *s.aerodynamics, *s.motion, options);
   return s;
 }
