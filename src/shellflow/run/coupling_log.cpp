@@ -25,7 +25,7 @@ double CouplingLog::step(coupling::PartitionedSolver& driver, double dt, long st
   iteration_seconds_ += r.iteration_seconds;
   newton_total_ += r.newton_iterations;
   coupling_total_ += r.coupling_iterations;
-  substeps_total_ += r.flow.substeps;
+  substeps_total_ += long(r.flow.substeps) * r.coupling_iterations;  // every iteration's flow pass
   const Vec3 ff = r.fluid_force.value_or(Vec3::Constant(std::nan("")));
   const double scale = std::max(r.shell_force.norm(), ff.allFinite() ? ff.norm() : 0.0);
   const double balance = ff.allFinite() && scale > 0.0 ? (r.shell_force - ff).norm() / scale : 0.0;
