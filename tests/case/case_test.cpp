@@ -961,3 +961,18 @@ TEST(ReadCaseCoupling, IterationsAndAccelerationErrors) {
 
 }  // namespace
 }  // namespace shellflow::io
+
+namespace shellflow::io {
+namespace {
+
+TEST(ReadCaseErrors, AbsurdStepCountsAreRefused) {
+  // 1e300 / 1e-4 steps would overflow the step counter: refused with the keys.
+  EXPECT_EQ(text_error(coupled_text("").replace(coupled_text("").find("end: 0.01"), 9, "end: 1e300")),
+            at("inline.yaml", 10,
+               "time.end: time.end / time.step = 1e+304 steps; a run takes at most 1e+09 steps: shorten time.end "
+               "or lengthen time.step"));
+  EXPECT_NO_THROW(read_case_string(coupled_text(""), data("inline.yaml")));
+}
+
+}  // namespace
+}  // namespace shellflow::io

@@ -145,6 +145,20 @@ TEST(Checkpoint, TheTwoNewestAreKeptAndTheDirectoryGivesTheNewest) {
   EXPECT_NE(error_of([&] { find_checkpoint(none.path()); }).find("no checkpoint_NNNNNN.ckpt"), std::string::npos);
 }
 
+TEST(Checkpoint, AHugeFileNamedLikeACheckpointIsRefusedBeforeItIsRead) {
+  // 64 GiB (sparse): refused from its first bytes and its size, without reading it whole.
+  TempDir dir("ckpt-huge");
+  const auto file = checkpoint_path(dir.path(), 300);
+  write_all(file, "not a checkpoint");
+  std::filesystem::resize_file(file, std::uintmax_t{64} << 30);
+  EXPECT_NE(error_of([&] { read_checkpoint(file); }).find("not a shellflow checkpoint"), std::string::npos);
+  // A real checkpoint's signature and sizes, with 64 GiB appended: refused by its size.
+  write_checkpoint(dir.path(), header(300), payload());
+  const auto good_size = std::filesystem::file_size(file);
+  std::filesystem::resize_file(file, good_size + (std::uintmax_t{64} << 30));
+  EXPECT_NE(error_of([&] { read_checkpoint(file); }).find("bytes after the end of the checkpoint"), std::string::npos);
+}
+
 TEST(Checkpoint, TruncatedDamagedForeignAndMissingFilesEachGetTheirMessage) {
   TempDir dir("ckpt-bad");
   write_checkpoint(dir.path(), header(7), payload());

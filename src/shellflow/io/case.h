@@ -107,6 +107,9 @@ struct CouplingSection {
 
 // ---- time -----------------------------------------------------------------------------------
 
+/// The most steps a case's time section may ask for (time.end / time.step).
+inline constexpr double kMaxSteps = 1e9;
+
 struct TimeSection {
   double end = 0.0;   ///< [s], > 0
   double step = 0.0;  ///< [s], > 0; 0 when not given (a flow run takes its step from cfl)

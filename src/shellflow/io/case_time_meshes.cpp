@@ -68,6 +68,12 @@ TimeSection read_time(const YamlNode& node) {
   t.end = node.required<double>("end", Range::positive(), "s");
   t.step = node.optional<double>("step", 0.0, Range::positive(), "s");
   if (t.step > t.end) node.fail("step", fmt::format("must not exceed time.end = {} s", t.end));
+  // Step counts are integers: an absurd count (or one beyond 2^63) is refused here, not met
+  // as an overflow in a run.
+  if (t.step > 0.0 && t.end / t.step > kMaxSteps)
+    node.fail("end", fmt::format("time.end / time.step = {:.3g} steps; a run takes at most {:.0e} steps: shorten "
+                                 "time.end or lengthen time.step",
+                                 t.end / t.step, kMaxSteps));
   node.finish();
   return t;
 }

@@ -195,10 +195,15 @@ Checkpoint read_checkpoint(const fs::path& file) {
                     "checkpoint_NNNNNN.ckpt files",
                     file.string()));
   if (!fs::is_regular_file(status)) throw Error(fmt::format("{}: not a checkpoint file", file.string()));
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (!in.eof() && in.fail()) throw Error(fmt::format("{}: cannot read the checkpoint", file.string()));
+  // The signature and the sizes first: a large file named like a checkpoint is refused
+  // before anything is read whole.
   const std::string name = file.string();
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec) throw Error(fmt::format("{}: cannot read the checkpoint ({})", name, ec.message()));
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes(std::size_t(std::min<std::uintmax_t>(size, kPrefix)), '\0');
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  if (!in) throw Error(fmt::format("{}: cannot read the checkpoint", name));
   if (bytes.size() < kMagic.size() || std::string_view(bytes).substr(0, kMagic.size()) != kMagic)
     throw Error(fmt::format("{}: not a shellflow checkpoint (no 'shellflow checkpoint' signature)", name));
   if (bytes.size() < kPrefix)
@@ -213,13 +218,16 @@ Checkpoint read_checkpoint(const fs::path& file) {
                     name, format, kCheckpointFormat));
   const auto header_bytes = prefix.get<std::uint64_t>(), payload_bytes = prefix.get<std::uint64_t>();
   const auto sum = prefix.get<std::uint64_t>();
-  const std::uint64_t body = bytes.size() - kPrefix;
+  const std::uintmax_t body = size - kPrefix;
   if (header_bytes > body || payload_bytes > body - header_bytes)
-    throw Error(fmt::format("{}: truncated ({} bytes of {}); restart from an earlier checkpoint", name, bytes.size(),
+    throw Error(fmt::format("{}: truncated ({} bytes of {}); restart from an earlier checkpoint", name, size,
                             kPrefix + header_bytes + payload_bytes));
   if (header_bytes + payload_bytes != body)
     throw Error(fmt::format("{}: {} bytes after the end of the checkpoint; the file is damaged", name,
                             body - header_bytes - payload_bytes));
+  bytes.resize(std::size_t(size));
+  in.read(bytes.data() + kPrefix, std::streamsize(body));
+  if (!in) throw Error(fmt::format("{}: cannot read the checkpoint", name));
   const std::string_view rest = std::string_view(bytes).substr(kPrefix);
   const std::string_view head = rest.substr(0, header_bytes), tail = rest.substr(header_bytes);
   if (checksum64(std::as_bytes(std::span(tail.data(), tail.size())),
