@@ -172,6 +172,8 @@ void log_outcome(const io::StudySection& s, const StudyResult& r, const std::opt
                  *boundary, r.bracket->first.value, r.bracket->second.value, r.rounds);
     return;
   }
+  if (std::none_of(r.points.begin(), r.points.end(), [](const Point& p) { return p.ok; }))
+    return;  // no result at all: study_command stops with the runs' reason
   std::string found;
   for (const auto& p : r.points)
     found += fmt::format("{}{:.6g}: {}", found.empty() ? "" : ", ", p.value,
@@ -221,6 +223,12 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
     make_plot("plot_study.py",
               {(outdir / "study.csv").string(), "--summary", (outdir / "study.json").string(), "-o", outdir.string()},
               options.json);
+  // No growth rate anywhere is no result: the reason the runs gave, not a bracket to widen.
+  const auto ok = std::count_if(result.points.begin(), result.points.end(), [](const Point& p) { return p.ok; });
+  if (ok == 0 && !result.points.empty())
+    throw Error(fmt::format("study: none of the {} runs gave a growth rate (at {} = {:.6g}: {}); see {}",
+                            result.points.size(), io::to_string(s.parameter), result.points.front().value,
+                            result.points.front().message, (outdir / "study.csv").string()));
   return 0;
 }
 

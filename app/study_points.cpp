@@ -126,10 +126,12 @@ std::vector<std::string> overrides_of(const io::Case& c, double value) {
 
 }  // namespace
 
-/// Every --set of a point's run: the command line's, the study's `set`, then the parameter's.
+/// Every --set of a point's run: the study's `set`, then the command line's (an explicit
+/// --set wins over the case file's study.set), then the parameter's.
 std::vector<std::string> run_overrides(const io::Case& c, const CommonOptions& common, double value) {
-  std::vector<std::string> out = common.overrides;
+  std::vector<std::string> out;
   for (const auto& o : c.study->set) out.push_back(o.path + "=" + o.value);
+  out.insert(out.end(), common.overrides.begin(), common.overrides.end());
   for (const auto& o : overrides_of(c, value)) out.push_back(o);
   return out;
 }

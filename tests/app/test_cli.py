@@ -1213,6 +1213,20 @@ class FlutterAnalysis(unittest.TestCase):
         with open(os.path.join(out, "study.csv"), newline="") as f:
             self.assertEqual(sorted(row["status"] for row in csv.DictReader(f)), ["failed", "ok"])
 
+    def test_a_study_where_no_run_gives_a_growth_rate_fails_with_the_reason(self):
+        # --set time.end on the command line wins over the case's study.set (0.25 s): 5 ms runs
+        # are too short for a growth rate at every point: no result, exit 1, the runs' reason.
+        out = os.path.join(self.tmp.name, "study")
+        r = shellflow("study", self.MONOLITHIC, "-o", out, "--no-plot", "--set", "study.points=2",
+                      "--set", "time.end=0.005")
+        self.assertEqual(r.returncode, 1, r.stderr)
+        last = r.stderr.strip().splitlines()[-1]
+        self.assertRegex(last, r"^shellflow: error: study: none of the 2 runs gave a growth rate \(at mach = 1.8: "
+                               r"response.json has no growth rate")
+        self.assertNotIn("widen study.range", r.stderr)
+        with open(os.path.join(out, "study.csv"), newline="") as f:
+            self.assertEqual([row["status"] for row in csv.DictReader(f)], ["failed", "failed"])
+
     def test_a_study_range_the_runs_cannot_take_is_refused_before_running(self):
         # Dynamic pressure 15876 Pa is Mach 0.9 at this p: piston theory cannot run it.
         out = os.path.join(self.tmp.name, "study")
