@@ -165,6 +165,9 @@ CATALOGUE = [
     Entry("yaml_control_bytes_in_a_value", base=SZE31,
           edit=("{ group: clamped, type: clamped }", '{ group: clamped, type: "clamp\\e[31med" }'),
           expect=["{case}:{line}:", "shell.supports[0].type", "clamp\\x1b[31med"], fix="expected one of"),
+    Entry("yaml_high_bytes_in_a_value", base=SZE31,
+          edit=("{ group: clamped, type: clamped }", '{ group: clamped, type: "clamp\\xff\\x9bed" }'),
+          expect=["{case}:{line}:", "shell.supports[0].type", "clamp\\xc3\\xbf\\xc2\\x9bed"], fix="expected one of"),
     # ---- typos at every depth (each with the closest key) ----
     Entry("typo_top_level", base=SZE31, edit=("\nprobes:", "\nprobe:"),
           expect=["{case}:{line}: probe: unknown key"], fix="did you mean 'probes'"),

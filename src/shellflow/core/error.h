@@ -33,13 +33,14 @@ template <class... Args>
   throw InputError(fmt::format(f, std::forward<Args>(args)...));
 }
 
-/// `text` with control bytes (newlines, escapes) shown as \xNN: quoted input in a one-line
-/// message, nothing for the terminal to interpret.
+/// `text` with control bytes (newlines, escapes) and every byte >= 0x7f shown as \xNN:
+/// quoted input in a one-line message, nothing for the terminal to interpret (bytes >= 0x80
+/// may be C1 controls, or not text at all in a binary file given as a case).
 inline std::string printable(std::string_view text) {
   std::string out;
   for (const char ch : text) {
     const auto b = static_cast<unsigned char>(ch);
-    if (b < 0x20 || b == 0x7f) {
+    if (b < 0x20 || b >= 0x7f) {
       out += fmt::format("\\x{:02x}", b);
     } else {
       out += ch;
