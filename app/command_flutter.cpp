@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/setup/coupled_setup.h"
@@ -65,8 +66,11 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
   r.hi = options.range ? options.range->second
          : by_lambda   ? std::max(1000.0, 2.0 * lambda_case)
                        : std::max(3.0, 2.0 * setting.mach);
-  if (!by_lambda && !(r.lo > 1.0))
-    throw Error(fmt::format("--range {} {}: a Mach sweep must stay above Mach 1 (piston theory)", r.lo, r.hi));
+  if (!by_lambda && !(r.lo >= coupling::kPistonTheoryMinMach))
+    throw Error(
+        fmt::format("--range {} {}: a Mach sweep must stay at or above Mach {} (piston theory's validity "
+                    "limit, docs/coupling.md)",
+                    r.lo, r.hi, coupling::kPistonTheoryMinMach));
   for (int widen = 0;; ++widen) {
     r.sweep = coupling::sweep_flutter(linear, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked);
     if (r.sweep.critical || options.range || widen == 3) break;
@@ -89,16 +93,15 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
 
 /// flutter_locus.csv: one row per root and parameter value.
 void write_locus(const Result& r, const fs::path& outdir) {
-  std::ofstream csv(outdir / "flutter_locus.csv");
-  csv << "value,lambda,mach,root,growth_rate,frequency_hz,damping_g\n";
+  std::string csv = "value,lambda,mach,root,growth_rate,frequency_hz,damping_g\n";
   for (const auto& p : r.sweep.points)
     for (std::size_t k = 0; k < p.eigenvalues.size(); ++k) {
       const auto s = p.eigenvalues[k];
       const double g = s.imag() != 0.0 ? 2.0 * s.real() / s.imag() : std::nan("");
-      csv << fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, json_number(p.mach), k + 1,
+      csv += fmt::format("{:.10g},{:.10g},{},{},{:.10g},{:.10g},{}\n", p.value, p.lambda, json_number(p.mach), k + 1,
                          s.real(), s.imag() / (2.0 * std::numbers::pi), json_number(g));
     }
-  if (!csv) throw Error(fmt::format("{}: cannot write flutter_locus.csv", outdir.string()));
+  write_file_atomically(outdir / "flutter_locus.csv", csv);
 }
 
 /// flutter.json (returned, for --json).
@@ -124,9 +127,7 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
       cr ? json_number(cr->mach) : "null", cr ? json_number(cr->frequency_hz) : "null",
       cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null",
       freqs);
-  std::ofstream out(outdir / "flutter.json");
-  out << json << '\n';
-  if (!out) throw Error(fmt::format("{}: cannot write flutter.json", outdir.string()));
+  write_file_atomically(outdir / "flutter.json", json + '\n');
   return json;
 }
 
@@ -166,7 +167,8 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
                     "(density, pressure, mach, direction) for piston theory",
                     where));
   const io::Case c = shell_only(full);
-  const auto outdir = prepare_output_dir(c, common);
+  const auto folder = prepare_output_dir(c, common);  // locked while this command runs
+  const std::filesystem::path& outdir = folder.path;
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
   const coupling::PistonTheory theory = piston_theory(c, model, where);

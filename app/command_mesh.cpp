@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "commands.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
 
@@ -13,7 +14,8 @@ namespace shellflow::app {
 
 int mesh_command(const CommonOptions& options, bool json) {
   const io::Case c = read_case(options);
-  const auto outdir = prepare_output_dir(c, options);
+  const auto folder = prepare_output_dir(c, options);  // locked while this command runs
+  const std::filesystem::path& outdir = folder.path;
   spdlog::info("meshing {} into {}", options.case_file.string(), outdir.string());
   const io::CaseMeshes meshes = io::load_case_meshes(c, outdir);
 
@@ -23,7 +25,7 @@ int mesh_command(const CommonOptions& options, bool json) {
     reports.push_back(io::report_mesh(*m));
   }
   const std::string report_json = io::reports_to_json(reports);
-  std::ofstream(outdir / "meshes.json") << report_json << '\n';
+  write_file_atomically(outdir / "meshes.json", report_json + '\n');
 
   if (json) {
     fmt::print("{}\n", report_json);

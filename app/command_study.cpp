@@ -17,6 +17,7 @@
 #include "commands.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/checkpoint.h"
 #include "shellflow/run/run_control.h"
 #include "study_points.h"
@@ -54,32 +55,6 @@ std::optional<std::pair<Point, Point>> bracket(const std::vector<Point>& points)
 
 double zero_of(const Point& a, const Point& b) {
   return a.value - a.growth_rate * (b.value - a.value) / (b.growth_rate - a.growth_rate);
-}
-
-/// The study section and the case as the runs will read it at both ends of the range:
-/// refused here, not per run.
-void check_study_case(const io::Case& c, const CommonOptions& common) {
-  if (!c.study)
-    throw InputError(
-        fmt::format("{}: the case has no 'study' section (parameter, range, points, tolerance; "
-                    "docs/case-format.md)",
-                    common.case_file.string()));
-  const io::StudySection& s = *c.study;
-  if (!io::response_probe(c))
-    throw InputError(
-        fmt::format("{}: a study reads the growth rate of a shell.displacement probe; add one to "
-                    "'probes' (or name it in coupling.response.probe)",
-                    common.case_file.string()));
-  for (const double v : {s.lo, s.hi}) {
-    CommonOptions point = common;
-    point.overrides = run_overrides(c, common, v);
-    try {
-      (void)read_case(point);
-    } catch (const InputError& e) {
-      throw InputError(fmt::format("study at {} = {:.8g} (study.set and the parameter applied): {}",
-                                   io::to_string(s.parameter), v, e.what()));
-    }
-  }
 }
 
 /// Where the study stands after its runs: every point, the bracket of the sign change, the
@@ -133,15 +108,15 @@ std::string write_results(const io::Case& c, const StudyResult& r, const std::op
   const io::StudySection& s = *c.study;
   const std::string name(io::to_string(s.parameter));
   {
-    std::ofstream csv(outdir / "study.csv");
-    csv << name
-        << ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
-           "folder,message\n";
+    std::string csv = name +
+                      ",status,growth_rate,growth_rate_error,frequency_hz,saturated,lco_amplitude,lco_frequency_hz,"
+                      "folder,message\n";
     for (const auto& p : r.points)
-      csv << fmt::format("{:.10g},{},{},{},{},{},{},{},{},{}\n", p.value, p.ok ? "ok" : "failed",
+      csv += fmt::format("{:.10g},{},{},{},{},{},{},{},{},{}\n", p.value, p.ok ? "ok" : "failed",
                          json_number(p.growth_rate), json_number(p.growth_rate_error), json_number(p.frequency_hz),
                          p.saturated ? 1 : 0, json_number(p.lco_amplitude), json_number(p.lco_frequency_hz),
                          fs::relative(p.dir, outdir).string(), csv_quoted(p.message));
+    write_file_atomically(outdir / "study.csv", csv);
   }
   std::string rows;
   for (const auto& p : r.points)
@@ -160,7 +135,7 @@ std::string write_results(const io::Case& c, const StudyResult& r, const std::op
       boundary ? json_number(*boundary) : "null",
       br ? fmt::format("[{}, {}]", json_number(br->first.value), json_number(br->second.value)) : "null", r.rounds,
       rows);
-  std::ofstream(outdir / "study.json") << json << '\n';
+  write_file_atomically(outdir / "study.json", json + '\n');
   return json;
 }
 
@@ -184,12 +159,39 @@ void log_outcome(const io::StudySection& s, const StudyResult& r, const std::opt
 
 }  // namespace
 
+/// The study section and the case as the runs will read it at both ends of the range:
+/// refused here, not per run.
+void check_study_case(const io::Case& c, const CommonOptions& common) {
+  if (!c.study)
+    throw InputError(
+        fmt::format("{}: the case has no 'study' section (parameter, range, points, tolerance; "
+                    "docs/case-format.md)",
+                    common.case_file.string()));
+  const io::StudySection& s = *c.study;
+  if (!io::response_probe(c))
+    throw InputError(
+        fmt::format("{}: a study reads the growth rate of a shell.displacement probe; add one to "
+                    "'probes' (or name it in coupling.response.probe)",
+                    common.case_file.string()));
+  for (const double v : {s.lo, s.hi}) {
+    CommonOptions point = common;
+    point.overrides = run_overrides(c, common, v);
+    try {
+      (void)read_case(point);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("study at {} = {:.8g} (study.set and the parameter applied): {}",
+                                   io::to_string(s.parameter), v, e.what()));
+    }
+  }
+}
+
 int study_command(const CommonOptions& common, const StudyOptions& options) {
   // 1. The case and its study, checked at both ends of the range.
   const io::Case c = read_case(common);
   check_study_case(c, common);
   const io::StudySection& s = *c.study;
-  const auto outdir = prepare_output_dir(c, common);
+  const auto folder = prepare_output_dir(c, common);  // locked while this command runs
+  const std::filesystem::path& outdir = folder.path;
   spdlog::info("study of '{}': {} in [{:.6g}, {:.6g}], {} points, boundary to {:.3g}, {} job(s) -> {}", c.name,
                io::to_string(s.parameter), s.lo, s.hi, s.points, s.tolerance, options.jobs, outdir.string());
   // 2. The runs: the points of the range, then the refinement of the sign change.

@@ -28,9 +28,13 @@ using run::StopOptions;
 /// The case file of the command line, with its --set overrides applied.
 io::Case read_case(const CommonOptions& options);
 /// The output directory of a command (-o, else the case's output.directory), created.
-inline std::filesystem::path prepare_output_dir(const io::Case& c, const CommonOptions& options) {
+inline run::OutputFolder prepare_output_dir(const io::Case& c, const CommonOptions& options) {
   return run::prepare_output_dir(c, options.output_dir);
 }
+
+/// The study section and the case as a study's runs will read it at both ends of its range
+/// (`check` and `study`): throws InputError with the point and the reason.
+void check_study_case(const io::Case& c, const CommonOptions& common);
 
 /// `shellflow run`: run::run_case on the case file (run/run.h).
 int run_command(const CommonOptions& options, const StopOptions& stop = {});

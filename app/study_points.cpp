@@ -20,6 +20,7 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/checkpoint.h"
 
 extern "C" char** environ;
@@ -146,7 +147,9 @@ struct PointRunner::Impl {
   }
 
   fs::path dir_of(double value) const {
-    return root_ / "points" / fmt::format("{}_{:.8g}", io::to_string(c_.study->parameter), value);
+    // The value as its run is given it (12 significant digits, overrides_of): distinct runs
+    // never share a folder (8 digits did: two points of a refinement wrote into one).
+    return root_ / "points" / fmt::format("{}_{:.12g}", io::to_string(c_.study->parameter), value);
   }
 
   /// Runs the values not yet finished, `jobs` at a time; returns every value's point.
@@ -213,7 +216,7 @@ struct PointRunner::Impl {
     fs::create_directories(dir);
     // An interrupted run of the same settings continues from its checkpoint.
     const bool resume = slurp(dir / "settings.txt") == settings(value) && has_checkpoint(dir);
-    std::ofstream(dir / "settings.txt", std::ios::binary) << settings(value);
+    write_file_atomically(dir / "settings.txt", settings(value));
     std::vector<std::string> words{exe_, "run", common_.case_file.string(), "--no-plot"};
     if (resume)
       words.insert(words.end(), {"--restart", dir.string()});
@@ -235,7 +238,7 @@ struct PointRunner::Impl {
     posix_spawn_file_actions_init(&actions);
     // A continued run appends to the log of the run it continues.
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                     O_WRONLY | O_CREAT | (resume ? O_APPEND : O_TRUNC), 0644);
+                                     O_WRONLY | O_CREAT | O_NOFOLLOW | (resume ? O_APPEND : O_TRUNC), 0644);
     posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
     pid_t pid = 0;
     const int rc = posix_spawn(&pid, exe_.c_str(), &actions, nullptr, argv.data(), envp.data());
@@ -266,8 +269,9 @@ struct PointRunner::Impl {
         message = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
                                       : fmt::format("exit status {}", WEXITSTATUS(status));
     }
-    std::ofstream(dir / "point.json") << fmt::format("{{\"value\": {}, \"ok\": {}, \"message\": {}}}\n",
-                                                     json_number(value), ok ? "true" : "false", json_string(message));
+    write_file_atomically(dir / "point.json",
+                          fmt::format("{{\"value\": {}, \"ok\": {}, \"message\": {}}}\n", json_number(value),
+                                      ok ? "true" : "false", json_string(message)));
     Point p = read_point(dir, value).value();
     if (p.ok)
       spdlog::info("study: {} = {:.8g}: growth rate {:.5g} +- {:.2g} 1/s, {:.5g} Hz{}",

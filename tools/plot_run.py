@@ -12,6 +12,7 @@ import importlib
 import os
 import re
 import sys
+import tempfile
 import time
 import traceback
 
@@ -20,6 +21,7 @@ sys.dont_write_bytecode = True  # importing the scripts must not write tools/__p
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.figure  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 
 TOOLS = os.path.dirname(os.path.abspath(__file__))
@@ -39,6 +41,36 @@ def parse_jobs(argv):
         jobs.append((script, argv[i + 3:i + 3 + int(count)]))
         i += 3 + int(count)
     return jobs
+
+
+_savefig = matplotlib.figure.Figure.savefig
+
+
+def savefig_without_links(fig, fname, *args, **kwargs):
+    """Figure.savefig for every job: a file path is written to a new temporary of this process in
+    the same folder (mkstemp: O_CREAT | O_EXCL), then renamed over the target, so a symbolic link
+    named like a plot (a case bundle's `results/probes.png -> ~/.bashrc`) is replaced, never
+    written through."""
+    if not isinstance(fname, (str, os.PathLike)):
+        return _savefig(fig, fname, *args, **kwargs)
+    target = os.fspath(fname)
+    if os.path.isdir(target):
+        raise IsADirectoryError(f"{target}: is a folder")
+    root, ext = os.path.splitext(os.path.basename(target))
+    fd, tmp = tempfile.mkstemp(prefix=root + ".", suffix=ext + ".tmp", dir=os.path.dirname(target) or ".")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            kwargs.setdefault("format", ext[1:] if ext else None)
+            _savefig(fig, f, *args, **kwargs)
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, target)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+matplotlib.figure.Figure.savefig = savefig_without_links
 
 
 def run_job(script, args):

@@ -10,6 +10,7 @@
 
 #include "shellflow/core/archive.h"
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/core/version.h"
 #include "shellflow/mesh/gmsh_input_check.h"
 #include "shellflow/mesh/gmsh_io.h"
@@ -168,26 +169,23 @@ std::optional<mesh::Mesh> read_cache(const fs::path& cache, const fs::path& msh,
 
 /// Writes the cache (tmp + rename). A failure only costs the next run a meshing: a warning.
 void write_cache(const fs::path& cache, const fs::path& msh, std::uint64_t input, const mesh::Mesh& m) {
-  std::error_code ec;
-  const fs::path tmp = fs::path(cache.string() + ".tmp");
   const auto msh_bytes = read_bytes(msh);
-  if (msh_bytes) {
-    const std::string payload = mesh_payload(m);
-    ArchiveWriter head;
-    head.put(kCacheFormat);
-    head.put(input);
-    head.put(checksum_of(*msh_bytes));
-    head.put(static_cast<std::uint64_t>(payload.size()));
-    head.put(checksum_of(payload));
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << kCacheMagic << head.bytes() << payload;
-    out.close();
-    if (out) {
-      fs::rename(tmp, cache, ec);
-      if (!ec) return;
+  try {
+    if (msh_bytes) {
+      const std::string payload = mesh_payload(m);
+      ArchiveWriter head;
+      head.put(kCacheFormat);
+      head.put(input);
+      head.put(checksum_of(*msh_bytes));
+      head.put(static_cast<std::uint64_t>(payload.size()));
+      head.put(checksum_of(payload));
+      write_file_atomically(cache, std::string(kCacheMagic) + head.bytes() + payload);
+      return;
     }
+  } catch (const Error& e) {
+    spdlog::warn("{}; the next run meshes again", e.what());
+    return;
   }
-  fs::remove(tmp, ec);
   spdlog::warn("{}: cannot write the mesh cache; the next run meshes again", cache.string());
 }
 
@@ -221,10 +219,15 @@ mesh::Mesh load_one(const MeshSpec& spec, const std::optional<fs::path>& msh_dir
     }
   } else {
     m = mesh::read_msh(spec.file, spec.key);
-    if (msh_dir) {
-      std::filesystem::create_directories(*msh_dir);
-      std::filesystem::copy_file(spec.file, *msh_dir / (spec.key + ".msh"),
-                                 std::filesystem::copy_options::overwrite_existing);
+    // The run's copy `<key>.msh` (not when the input is that file: a mesh input inside the
+    // output folder stays as it is).
+    const fs::path copy = msh_dir ? *msh_dir / (spec.key + ".msh") : fs::path();
+    std::error_code ec;
+    if (msh_dir && !fs::equivalent(spec.file, copy, ec)) {
+      const auto bytes = read_bytes(spec.file);
+      if (!bytes)
+        throw Error(fmt::format("{}: cannot read it again to copy it to {}", spec.file.string(), copy.string()));
+      write_file_atomically(copy, *bytes);
     }
   }
   const auto& where = spec.where;

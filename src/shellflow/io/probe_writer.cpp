@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstring>
 #include <set>
-#include <system_error>
 
 #include "shellflow/core/error.h"
 
@@ -62,21 +61,9 @@ ProbeWriter::ProbeWriter(std::filesystem::path path, std::vector<std::string> na
   }
 
   if (mode == OutputMode::resume) return;
-  if (path_.has_parent_path()) {
-    std::error_code ec;
-    std::filesystem::create_directories(path_.parent_path(), ec);
-    if (ec) {
-      throw Error(fmt::format("cannot create directory {} for {}: {}", path_.parent_path().string(), path_.string(),
-                              ec.message()));
-    }
-  }
-  out_.open(path_, std::ios::out | std::ios::trunc);
-  if (!out_) {
-    throw Error(fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
-  }
+  out_ = AppendFile(path_, AppendFile::Mode::truncate);
   const std::string header = header_line(names_);
-  out_ << header << std::flush;
-  if (!out_) throw Error(fmt::format("cannot write {}", path_.string()));
+  out_.write(header);
   bytes_ = header.size();
 }
 
@@ -88,26 +75,26 @@ void ProbeWriter::save(ArchiveWriter& out) const {
 void ProbeWriter::restore(ArchiveReader& in) {
   const auto bytes = in.get<std::uint64_t>();
   const auto rows = in.get<std::uint64_t>();
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path_, ec);
-  if (ec)
-    throw Error(fmt::format("{}: cannot continue it ({}); the restart needs the output of the run it continues",
-                            path_.string(), ec.message()));
+  // Opened first (never through a link), then measured, checked and cut back through that
+  // descriptor.
+  AppendFile file;
+  try {
+    file = AppendFile(path_, AppendFile::Mode::append);
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}; the restart needs the output of the run it continues", e.what()));
+  }
+  const std::uint64_t size = file.size();
   if (size < bytes)
     throw Error(
         fmt::format("{}: {} bytes, fewer than the {} at the checkpoint; it was changed after the "
                     "checkpoint, so the run cannot be continued bit for bit",
                     path_.string(), size, bytes));
   const std::string header = header_line(names_);
-  std::string first(header.size(), '\0');
-  std::ifstream(path_, std::ios::binary).read(first.data(), std::streamsize(first.size()));
-  if (first != header)
+  if (file.read_at(0, header.size()) != header)
     throw Error(fmt::format("{}: its header is not '{}'; it is not the output of this run", path_.string(),
                             header.substr(0, header.size() - 1)));
-  std::filesystem::resize_file(path_, bytes, ec);
-  if (ec) throw Error(fmt::format("{}: cannot cut it back to the checkpoint ({})", path_.string(), ec.message()));
-  out_.open(path_, std::ios::out | std::ios::app);
-  if (!out_) throw Error(fmt::format("cannot open {} for writing: {}", path_.string(), std::strerror(errno)));
+  if (size != bytes) file.truncate(bytes);  // untouched when it ends at the checkpoint
+  out_ = std::move(file);
   bytes_ = bytes;
   rows_ = rows;
 }
@@ -127,10 +114,7 @@ void ProbeWriter::append(double time, std::span<const double> values) {
   }
   row += '\n';
   if (!out_.is_open()) throw Error(fmt::format("{}: not open (a resumed writer before restore)", path_.string()));
-  out_ << row << std::flush;  // one write per row: a crash leaves whole rows
-  if (!out_) {
-    throw Error(fmt::format("cannot write {} (disk full?): {}", path_.string(), std::strerror(errno)));
-  }
+  out_.write(row);  // one write per row: a crash leaves whole rows
   ++rows_;
   bytes_ += row.size();
 }

@@ -4,12 +4,12 @@
 // row is flushed as soon as it is written, so the file is readable while the run goes on
 // and after it dies.
 #include <filesystem>
-#include <fstream>
 #include <span>
 #include <string>
 #include <vector>
 
 #include "shellflow/core/archive.h"
+#include "shellflow/core/output_file.h"
 
 namespace shellflow::io {
 
@@ -46,7 +46,7 @@ class ProbeWriter {
  private:
   std::filesystem::path path_;
   std::vector<std::string> names_;
-  std::ofstream out_;
+  AppendFile out_;  // never through a link (core/output_file.h)
   std::size_t rows_ = 0;
   std::uint64_t bytes_ = 0;  ///< the file's length
 };

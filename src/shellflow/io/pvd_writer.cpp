@@ -4,6 +4,8 @@
 
 #include <bit>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <ostream>
 
 #include "shellflow/core/error.h"
@@ -39,8 +41,19 @@ void PvdWriter::restore(ArchiveReader& in) {
     e.time = in.get<double>();
     e.file = in.get_string();
     e.part = in.get<int>();
+    // A series lists files of its own folder only (no path, no link out of it).
+    const std::filesystem::path file(e.file);
+    if (e.file.empty() || file.filename() != file || e.file == "." || e.file == ".." || !std::isfinite(e.time) ||
+        e.part < 0)
+      throw Error(fmt::format("{}: damaged (entry '{}' at t = {} of {} is not a file of the output folder)", in.what(),
+                              printable(e.file), e.time, path_.filename().string()));
   }
   entries_ = std::move(entries);
+  // Rewritten only when it differs from the checkpoint's series: a restart refused later
+  // leaves the folder untouched.
+  std::ifstream in_file(path_, std::ios::binary);
+  const std::string now((std::istreambuf_iterator<char>(in_file)), std::istreambuf_iterator<char>());
+  if (!in_file.bad() && !std::filesystem::is_symlink(path_) && now == xml()) return;
   write();
 }
 
@@ -66,21 +79,21 @@ void PvdWriter::add(double time, const std::string& vtu_relative_path, int part)
   write();
 }
 
-void PvdWriter::write() const {
-  write_file_atomically(path_, [this](std::ostream& os) {
-    std::string xml;
-    xml += "<?xml version=\"1.0\"?>\n";
-    xml += fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n",
-                       std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian");
-    xml += "  <Collection>\n";
-    for (const auto& e : entries_) {
-      xml += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"{}\" file=\"{}\"/>\n", e.time, e.part,
-                         xml_escape(e.file));
-    }
-    xml += "  </Collection>\n";
-    xml += "</VTKFile>\n";
-    os << xml;
-  });
+std::string PvdWriter::xml() const {
+  std::string xml;
+  xml += "<?xml version=\"1.0\"?>\n";
+  xml += fmt::format("<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"{}\">\n",
+                     std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian");
+  xml += "  <Collection>\n";
+  for (const auto& e : entries_) {
+    xml += fmt::format("    <DataSet timestep=\"{:.17g}\" group=\"\" part=\"{}\" file=\"{}\"/>\n", e.time, e.part,
+                       xml_escape(e.file));
+  }
+  xml += "  </Collection>\n";
+  xml += "</VTKFile>\n";
+  return xml;
 }
+
+void PvdWriter::write() const { write_file_atomically(path_, xml()); }
 
 }  // namespace shellflow::io

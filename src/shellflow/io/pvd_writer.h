@@ -56,6 +56,7 @@ class PvdWriter {
 
  private:
   void write() const;
+  std::string xml() const;  ///< the .pvd file of entries_
 
   std::filesystem::path path_;
   std::vector<Entry> entries_;

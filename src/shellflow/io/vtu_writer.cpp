@@ -226,45 +226,6 @@ std::string xml_escape(std::string_view s) {
   return out;
 }
 
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (path.has_parent_path()) {
-    fs::create_directories(path.parent_path(), ec);
-    if (ec) {
-      throw Error(fmt::format("cannot create directory {} for {}: {}", path.parent_path().string(), path.string(),
-                              ec.message()));
-    }
-  }
-  fs::path tmp = path;
-  tmp += ".tmp";
-  {
-    std::ofstream os(tmp, std::ios::binary | std::ios::trunc);
-    if (!os) {
-      throw Error(fmt::format("cannot open {} for writing: {}", tmp.string(), std::strerror(errno)));
-    }
-    try {
-      fill(os);
-      os.flush();
-    } catch (...) {
-      os.close();
-      fs::remove(tmp, ec);
-      throw;
-    }
-    os.close();
-    if (os.fail()) {
-      fs::remove(tmp, ec);
-      throw Error(fmt::format("cannot write {} (disk full?): {}", tmp.string(), std::strerror(errno)));
-    }
-  }
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
-  }
-}
-
 // ---- public: the writer ----------------------------------------------------------------
 
 void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {

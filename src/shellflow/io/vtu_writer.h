@@ -22,8 +22,9 @@
 //     </AppendedData>
 //   </VTKFile>
 //
-// Files are written to `<path>.tmp` and renamed over `<path>` once complete, so a run that
-// dies mid-write never leaves a truncated file where a readable one was.
+// Files are written to a new `<path>.tmp` and renamed over `<path>` once complete
+// (core/output_file.h), so a run that dies mid-write never leaves a truncated file where a
+// readable one was, and a link named like the file is never written through.
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
@@ -33,6 +34,7 @@
 #include <string_view>
 #include <vector>
 
+#include "shellflow/core/output_file.h"  // write_file_atomically
 #include "shellflow/core/types.h"
 
 namespace shellflow::io {
@@ -97,11 +99,6 @@ std::span<const double> gmsh_reference_nodes(int gmsh_type);
 std::span<const double> vtk_reference_nodes(int gmsh_type);
 
 // ---- shared by the writers of this module ----------------------------------------------
-
-/// Creates the parent directories of `path`, calls `fill` on a binary stream opened on
-/// `<path>.tmp`, then renames that file over `path`. Throws shellflow::Error (and removes
-/// the temporary file) if anything fails; `path` is then untouched.
-void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill);
 
 /// Escapes &, <, >, " and ' for use inside an XML attribute value.
 std::string xml_escape(std::string_view s);

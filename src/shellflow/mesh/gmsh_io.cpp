@@ -4,11 +4,18 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
 #include <mutex>
 #include <numeric>
+#include <thread>
 #include <unordered_map>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/mesh/gmsh_input_check.h"
 
 namespace shellflow::mesh {
@@ -60,6 +67,65 @@ void with_gmsh(const std::filesystem::path& file, std::string_view action, F&& f
     throw;
   } catch (...) {
     throw_input_error("{}: Gmsh failed to {}: {}", file.string(), action, last_gmsh_error());
+  }
+}
+
+/// The time limit on Gmsh reading a .geo: SHELLFLOW_GEO_TIMEOUT seconds, default 120.
+double geo_read_timeout() {
+  const char* text = std::getenv("SHELLFLOW_GEO_TIMEOUT");
+  if (!text || !*text) return 120.0;
+  char* end = nullptr;
+  const double seconds = std::strtod(text, &end);
+  if (*end != '\0' || !std::isfinite(seconds) || !(seconds > 0.0))
+    throw Error(fmt::format("SHELLFLOW_GEO_TIMEOUT='{}': expected the seconds Gmsh may take to read a .geo (> 0)",
+                            printable(text)));
+  return seconds;
+}
+
+/// A watchdog on Gmsh reading a .geo: a `Sleep 3600;` or a loop of 1e12 turns would hang
+/// `check` and `run`, and Gmsh cannot be interrupted. When the limit expires the error line
+/// is printed and the process ends with status 1 (what it wrote is complete: every output
+/// is renamed into place whole).
+class GeoReadLimit {
+ public:
+  explicit GeoReadLimit(const std::filesystem::path& file) : seconds_(geo_read_timeout()) {
+    watchdog_ = std::thread([this, name = printable(file.string())] {
+      std::unique_lock lock(mutex_);
+      if (done_changed_.wait_for(lock, std::chrono::duration<double>(seconds_), [this] { return done_; })) return;
+      std::fprintf(stderr,
+                   "shellflow: error: %s: Gmsh did not finish reading it within %g s (a Sleep, or a loop too long?); "
+                   "fix the .geo, or raise the limit with SHELLFLOW_GEO_TIMEOUT=seconds\n",
+                   name.c_str(), seconds_);
+      std::fflush(stderr);
+      std::_Exit(1);
+    });
+  }
+  ~GeoReadLimit() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    done_changed_.notify_all();
+    watchdog_.join();
+  }
+  GeoReadLimit(const GeoReadLimit&) = delete;
+  GeoReadLimit& operator=(const GeoReadLimit&) = delete;
+
+ private:
+  double seconds_;
+  std::mutex mutex_;
+  std::condition_variable done_changed_;
+  bool done_ = false;
+  std::thread watchdog_;
+};
+
+/// gmsh::open, under the time limit for a .geo.
+void open_in_gmsh(const std::filesystem::path& file) {
+  if (file.extension() == ".geo") {
+    const GeoReadLimit limit(file);
+    gmsh::open(file.string());
+  } else {
+    gmsh::open(file.string());
   }
 }
 
@@ -207,7 +273,7 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
   GmshSession session(options.verbose);
   Mesh mesh;
   with_gmsh(geometry, "mesh the geometry", [&] {
-    gmsh::open(geometry.string());
+    open_in_gmsh(geometry);
     gmsh::option::setNumber("Mesh.MeshSizeFactor", options.size_factor);
     // Complete elements (tet20 has its 4 face nodes), high-order nodes on the geometry.
     gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 0);
@@ -216,7 +282,18 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
     if (options.msh_output) {
       gmsh::option::setNumber("Mesh.MshFileVersion", 4.1);
       gmsh::option::setNumber("Mesh.Binary", 0);
-      gmsh::write(options.msh_output->string());
+      // Gmsh opens files by name: it writes a new file of ours, renamed into place (a link
+      // named like the mesh is replaced, not written through).
+      const std::filesystem::path& out = *options.msh_output;
+      const auto tmp = private_temporary(out.parent_path().empty() ? "." : out.parent_path(), out.stem().string(),
+                                         out.extension().string());
+      try {
+        gmsh::write(tmp.string());
+      } catch (...) {
+        std::filesystem::remove(tmp);
+        throw;
+      }
+      rename_into_place(tmp, out);
     }
     mesh = extract_model(geometry, std::move(mesh_name));
   });
@@ -242,7 +319,7 @@ std::vector<std::string> physical_group_names(const std::filesystem::path& file)
   GmshSession session(false);
   std::vector<std::string> names;
   with_gmsh(file, "read the physical groups", [&] {
-    gmsh::open(file.string());
+    open_in_gmsh(file);
     gmsh::vectorpair groups;
     gmsh::model::getPhysicalGroups(groups, -1);
     for (const auto& [dim, tag] : groups) {

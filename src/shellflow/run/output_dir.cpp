@@ -5,26 +5,17 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <cstdlib>
 #include <string_view>
 #include <vector>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/core/version.h"
 #include "shellflow/io/checkpoint.h"
 #include "shellflow/io/plot_runner.h"
 
 namespace shellflow::run {
-
-std::filesystem::path prepare_output_dir(const io::Case& c, const std::optional<std::filesystem::path>& output_dir) {
-  const auto dir = output_dir.value_or(c.output.directory);
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) {
-    throw Error(
-        fmt::format("{}: cannot create the output directory ({}); choose another with -o", dir.string(), ec.message()));
-  }
-  return dir;
-}
 
 namespace {
 
@@ -41,7 +32,85 @@ bool all_digits(std::string_view s, std::size_t at_least) {
          std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
 }
 
+/// Whether a link named `name` in an output folder could be written through: the names of
+/// every file shellflow writes there, by their endings.
+bool is_output_like_name(std::string_view name) {
+  constexpr std::array<std::string_view, 13> kEndings = {".vtu",   ".pvtu", ".pvd", ".csv", ".json", ".png", ".msh",
+                                                         ".cache", ".ckpt", ".tmp", ".log", ".txt",  ".lock"};
+  return name == "points" ||
+         std::any_of(kEndings.begin(), kEndings.end(), [&](std::string_view e) { return name.ends_with(e); });
+}
+
+/// The files of `mesh`, `flutter` and `study` (and meshes of every run).
+bool is_command_output_name(std::string_view name) {
+  constexpr std::array<std::string_view, 8> kNames = {"meshes.json",       "flutter.json", "flutter_locus.csv",
+                                                      "flutter_locus.png", "study.csv",    "study.json",
+                                                      "study_growth.png",  "study_lco.png"};
+  return std::find(kNames.begin(), kNames.end(), name) != kNames.end() || name.ends_with(".vtu") ||
+         name.ends_with(".msh") || name.ends_with(".msh.cache");
+}
+
+/// The root folder and the home folder are never a run's output folder.
+void refuse_system_folder(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path canonical = fs::weakly_canonical(fs::absolute(dir, ec), ec);
+  if (ec) return;
+  std::string what;
+  if (canonical == canonical.root_path()) {
+    what = "the root folder";
+  } else if (const char* home = std::getenv("HOME"); home && *home && fs::weakly_canonical(home, ec) == canonical) {
+    what = "your home folder";
+  }
+  if (!what.empty())
+    throw Error(
+        fmt::format("{}: is {}; a run writes many files and removes those of an earlier run in its output "
+                    "folder: give a folder of its own with -o (e.g. -o {})",
+                    printable(dir.string()), what, printable((dir / "shellflow-out").string())));
+}
+
 }  // namespace
+
+OutputFolder open_output_dir(const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  refuse_system_folder(dir);
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    if (it->symlink_status(ec).type() == fs::file_type::symlink && is_output_like_name(it->path().filename().string()))
+      throw Error(link_refusal(it->path()));
+  }
+  if (ec) throw Error(fmt::format("{}: cannot list the output directory ({})", printable(dir.string()), ec.message()));
+  return {dir, OutputLock(dir)};
+}
+
+OutputFolder prepare_output_dir(const io::Case& c, const std::optional<std::filesystem::path>& output_dir) {
+  namespace fs = std::filesystem;
+  const auto dir = output_dir.value_or(c.output.directory);
+  refuse_system_folder(dir);
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) {
+    throw Error(fmt::format("{}: cannot create the output directory ({}); choose another with -o",
+                            printable(dir.string()), ec.message()));
+  }
+  // A folder shellflow never wrote in (no lock file) keeps its files: none of them is replaced
+  // or removed as "an earlier run's output".
+  if (!fs::exists(fs::symlink_status(dir / OutputLock::kFileName, ec))) {
+    std::vector<std::string> foreign;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+      const std::string name = it->path().filename().string();
+      if (is_run_output_name(name) || is_command_output_name(name)) foreign.push_back(name);
+    }
+    if (!foreign.empty())
+      throw Error(fmt::format(
+          "{}: holds {}{} but is not a shellflow output folder (no {}); a run would replace them: choose a new "
+          "folder with -o, or move them away",
+          printable(dir.string()), printable(foreign.front()),
+          foreign.size() > 1 ? fmt::format(" and {} other file(s) named like a run's output", foreign.size() - 1) : "",
+          OutputLock::kFileName));
+  }
+  return open_output_dir(dir);
+}
 
 bool is_run_output_name(const std::string& full) {
   if (io::is_checkpoint_name(full)) return true;

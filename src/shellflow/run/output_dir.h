@@ -6,11 +6,26 @@
 #include <string>
 #include <vector>
 
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/case.h"
 
 namespace shellflow::run {
-/// The output directory of a run (`output_dir` = -o, else the case's output.directory), created.
-std::filesystem::path prepare_output_dir(const io::Case& c, const std::optional<std::filesystem::path>& output_dir);
+/// An output folder in use: its path and the lock that keeps other shellflow processes out
+/// while this one writes there.
+struct OutputFolder {
+  std::filesystem::path path;
+  OutputLock lock;
+};
+
+/// The output directory of a run (`output_dir` = -o, else the case's output.directory),
+/// created, checked and locked (open_output_dir). Refused with one line: the root folder or
+/// the home folder itself; a folder that holds files named like a run's output but was never
+/// a shellflow output folder (no .shellflow.lock: its files are not ours to replace).
+OutputFolder prepare_output_dir(const io::Case& c, const std::optional<std::filesystem::path>& output_dir);
+/// An existing output folder (a restart's): locked (OutputLock), and refused with one line
+/// naming the link when a name a run writes there (*.vtu, *.pvd, *.csv, *.json, *.png, *.msh,
+/// *.cache, *.ckpt, *.tmp, *.log, *.txt, points/) is a symbolic link.
+OutputFolder open_output_dir(const std::filesystem::path& dir);
 /// Whether `name` is a file `shellflow run` writes: `<mesh>_NNNNNN.vtu`, `<mesh>.pvd`,
 /// `shell_mode_NN.vtu`, probes.csv, coupling.csv, response.json, the plots, checkpoint_NNNNNN.ckpt
 /// ... (docs/output.md), or the `.tmp` leftover of one.

@@ -11,20 +11,22 @@ namespace shellflow::run {
 namespace {
 
 /// The output folder: a new run's (created), or the folder of the checkpoint a restart
-/// continues. Every refusal comes before anything is written there.
-std::filesystem::path output_folder(const io::Case& c, const RunOptions& options,
-                                    std::optional<io::Checkpoint>& checkpoint) {
+/// continues; locked either way. Every refusal comes before anything is written there.
+OutputFolder output_folder(const io::Case& c, const RunOptions& options, std::optional<io::Checkpoint>& checkpoint) {
+  namespace fs = std::filesystem;
   if (!options.stop.restart) return prepare_output_dir(c, options.output_dir);
-  checkpoint = load_restart(*options.stop.restart, c);
-  std::filesystem::path outdir = checkpoint->file.parent_path();
+  const fs::path& restart = *options.stop.restart;
+  std::error_code ec;
+  fs::path outdir = fs::is_directory(restart, ec) ? restart : restart.parent_path();
   if (outdir.empty()) outdir = ".";
-  if (options.output_dir &&
-      std::filesystem::weakly_canonical(*options.output_dir) != std::filesystem::weakly_canonical(outdir))
+  if (options.output_dir && fs::weakly_canonical(*options.output_dir) != fs::weakly_canonical(outdir))
     throw Error(
         fmt::format("--restart {} continues the run in {}; drop -o {} (a restart writes into the folder of its "
                     "checkpoint)",
-                    options.stop.restart->string(), outdir.string(), options.output_dir->string()));
-  return outdir;
+                    restart.string(), outdir.string(), options.output_dir->string()));
+  OutputFolder folder = open_output_dir(outdir);  // locked before the checkpoint is read
+  checkpoint = load_restart(restart, c);
+  return folder;
 }
 
 /// The kind of run the case's sections ask for.
@@ -53,7 +55,8 @@ int run_case(const io::Case& c, const RunOptions& options) {
   // 1. The output folder and the meshes, from the folder's mesh cache while their inputs are
   // unchanged (a restart reads the cache but saves nothing: the folder keeps the run's own).
   std::optional<io::Checkpoint> checkpoint;
-  const std::filesystem::path outdir = output_folder(c, options, checkpoint);
+  const OutputFolder folder = output_folder(c, options, checkpoint);
+  const std::filesystem::path& outdir = folder.path;
   spdlog::info("case '{}' -> {}", c.name, outdir.string());
   const io::CaseMeshes meshes = checkpoint ? io::load_case_meshes(c, std::nullopt, outdir)  // reads the cache
                                            : io::load_case_meshes(c, outdir);

@@ -13,6 +13,7 @@
 #include <string_view>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/mesh_output.h"
 #include "shellflow/io/pvd_writer.h"
 #include "shellflow/run/mesh_outputs.h"
@@ -68,8 +69,7 @@ shell::ModalResult solve(const io::ShellAnalysis& analysis, const shell::ShellMo
 /// modes.csv and modes.json; returns the table for the log.
 std::string write_tables(const shell::ModalResult& result, std::span<const ModeShape> shapes, double tolerance,
                          const std::filesystem::path& outdir) {
-  std::ofstream csv(outdir / "modes.csv");
-  csv << "mode,frequency_hz,angular_frequency,direction,kinetic_x,kinetic_y,kinetic_z\n";
+  std::string csv = "mode,frequency_hz,angular_frequency,direction,kinetic_x,kinetic_y,kinetic_z\n";
   std::string table = fmt::format("{:>5} {:>14} {:>16} {:>9}  kinetic energy x / y / z", "mode", "frequency [Hz]",
                                   "omega [rad/s]", "direction");
   std::string json_frequencies;
@@ -77,17 +77,17 @@ std::string write_tables(const shell::ModalResult& result, std::span<const ModeS
     const double f = result.frequencies[k];
     const double omega = 2.0 * std::numbers::pi * f;
     const ModeShape& m = shapes[k];
-    csv << fmt::format("{},{:.10g},{:.10g},{},{:.6f},{:.6f},{:.6f}\n", k + 1, f, omega, m.direction, m.kinetic.x(),
+    csv += fmt::format("{},{:.10g},{:.10g},{},{:.6f},{:.6f},{:.6f}\n", k + 1, f, omega, m.direction, m.kinetic.x(),
                        m.kinetic.y(), m.kinetic.z());
     table += fmt::format("\n{:>5} {:>14.6f} {:>16.6f} {:>9}  {:.3f} / {:.3f} / {:.3f}", k + 1, f, omega, m.direction,
                          m.kinetic.x(), m.kinetic.y(), m.kinetic.z());
     json_frequencies += fmt::format("{}{:.17g}", k ? ", " : "", f);
   }
-  if (!csv) throw Error(fmt::format("cannot write {}", (outdir / "modes.csv").string()));
-  std::ofstream json(outdir / "modes.json");
-  json << fmt::format("{{\"modes\": {}, \"frequencies_hz\": [{}], \"iterations\": {}, \"tolerance\": {:.17g}}}\n",
-                      shapes.size(), json_frequencies, result.iterations, tolerance);
-  if (!json) throw Error(fmt::format("cannot write {}", (outdir / "modes.json").string()));
+  write_file_atomically(outdir / "modes.csv", csv);
+  write_file_atomically(
+      outdir / "modes.json",
+      fmt::format("{{\"modes\": {}, \"frequencies_hz\": [{}], \"iterations\": {}, \"tolerance\": {:.17g}}}\n",
+                  shapes.size(), json_frequencies, result.iterations, tolerance));
   return table;
 }
 
