@@ -51,19 +51,24 @@ def sets(overrides):
 
 
 def outputs(folder):
-    """{name: bytes} of every file of a run's folder but its checkpoints."""
+    """{name: bytes} of every file of a run's folder but its checkpoints and its lock file (which
+    holds the pid of a run killed while it held it)."""
     files = {}
     for name in sorted(os.listdir(folder)):
-        if not name.startswith("checkpoint_"):
+        if not name.startswith("checkpoint_") and name != ".shellflow.lock":
             with open(os.path.join(folder, name), "rb") as f:
                 files[name] = f.read()
     return files
 
 
 def snapshot(folder):
-    """Names, sizes, modification times and bytes of every file: a folder left untouched keeps them."""
+    """Names, sizes, modification times and bytes of every file: a folder left untouched keeps them.
+    Not the lock file, which every process that works in the folder takes (.shellflow.lock: the
+    holder's pid while it runs)."""
     files = {}
     for n in sorted(os.listdir(folder)):
+        if n == ".shellflow.lock":
+            continue
         with open(os.path.join(folder, n), "rb") as f:
             files[n] = (os.stat(os.path.join(folder, n)).st_mtime_ns, f.read())
     return files
@@ -332,11 +337,15 @@ class RestartRefusals(unittest.TestCase):
         with open(self.checkpoint, "wb") as f:
             f.write(self.good)
 
-    def refused(self, needle, *args, restart=None):
+    def refused(self, needle, *args, restart=None, after_setup=False):
+        """`after_setup`: refused once the run is set up (its payload read), after the set-up's log."""
         before = snapshot(self.out)
         r = shellflow("run", PISTON, "--restart", restart or self.out, "--no-plot", *sets(self.overrides), *args)
         self.assertEqual(r.returncode, 1, r.stderr)
         lines = r.stderr.strip().splitlines()
+        if after_setup:
+            self.assertTrue(all(" info: " in line for line in lines[:-1]), r.stderr)
+            lines = lines[-1:]
         self.assertEqual(len(lines), 1, r.stderr)
         self.assertTrue(lines[0].startswith("shellflow: error: "), lines[0])
         self.assertIn(needle, lines[0])
@@ -358,6 +367,38 @@ class RestartRefusals(unittest.TestCase):
         other = b"9.9.9"
         write_checkpoint(self.checkpoint, fmt, struct.pack("<Q", len(other)) + other + header[8 + n:], payload)
         self.refused(f"written by shellflow 9.9.9, this is shellflow {version}")
+
+    def craft_header_step(self, step):
+        """The checkpoint with its header's step replaced and a valid checksum: the checksum is no
+        signature, anyone can write one."""
+        fmt, header, payload, _ = read_checkpoint(self.checkpoint)
+        (n,) = struct.unpack_from("<Q", header)  # program version
+        (m,) = struct.unpack_from("<Q", header, 8 + n + 8)  # case name, after the build id
+        at = 8 + n + 8 + 8 + m
+        write_checkpoint(self.checkpoint, fmt, header[:at] + struct.pack("<q", step) + header[at + 8:], payload)
+
+    def test_a_crafted_checkpoint_with_a_step_out_of_range(self):
+        for step in (-1000000, 2**63 - 1):
+            self.craft_header_step(step)
+            self.refused(f"damaged (step {step}")
+
+    def test_a_crafted_checkpoint_whose_step_is_not_its_name(self):
+        self.craft_header_step(10)
+        self.refused("holds step 10, its name says step 20")
+
+    def test_a_crafted_checkpoint_with_a_series_entry_outside_the_folder(self):
+        fmt, header, payload, _ = read_checkpoint(self.checkpoint)
+        name, evil = b"shell_000000.vtu", b"../../evil.vtu"
+        entry = struct.pack("<Q", len(name)) + name
+        self.assertIn(entry, payload)
+        write_checkpoint(self.checkpoint, fmt, header, payload.replace(entry, struct.pack("<Q", len(evil)) + evil, 1))
+        self.refused("damaged (entry '../../evil.vtu' at t = 0 of shell.pvd is not a file of the output folder)",
+                     after_setup=True)
+
+    def test_a_time_end_at_or_before_the_checkpoint(self):
+        self.refused("step 20 (t = 0.002 s) is after time.end = 0.001 s of this run; raise time.end",
+                     "--set", "time.end=0.001")
+        self.refused("step 20 (t = 0.002 s) is at time.end = 0.002 s of this run", "--set", "time.end=0.002")
 
     def test_a_truncated_checkpoint(self):
         with open(self.checkpoint, "wb") as f:

@@ -1,12 +1,11 @@
 #include "shellflow/io/checkpoint.h"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -14,6 +13,8 @@
 #include <optional>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
+#include "shellflow/io/case.h"  // kMaxSteps
 #include "shellflow/mesh/mesh.h"
 
 namespace shellflow::io {
@@ -84,19 +85,6 @@ CheckpointHeader get_header(ArchiveReader& in) {
   return h;
 }
 
-/// write(2) all of `data`; false on an error (errno set).
-bool write_all(int fd, std::string_view data) {
-  while (!data.empty()) {
-    const ssize_t n = ::write(fd, data.data(), data.size());
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      return false;
-    }
-    data.remove_prefix(static_cast<std::size_t>(n));
-  }
-  return true;
-}
-
 }  // namespace
 
 std::vector<SectionDigest> case_digests(const YAML::Node& root) {
@@ -148,24 +136,12 @@ std::uint64_t write_checkpoint(const fs::path& dir, const CheckpointHeader& head
   prefix.put(sum);
 
   const fs::path file = checkpoint_path(dir, header.step);
-  const fs::path tmp = fs::path(file.string() + ".tmp");
-  const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw Error(fmt::format("{}: cannot write the checkpoint ({})", tmp.string(), std::strerror(errno)));
-  const bool ok = write_all(fd, kMagic) && write_all(fd, prefix.bytes()) && write_all(fd, h) &&
-                  write_all(fd, payload) && ::fsync(fd) == 0;
-  const int saved_errno = errno;
-  ::close(fd);
+  try {
+    write_file_atomically_synced(file, {kMagic, prefix.bytes(), h, payload});
+  } catch (const Error& e) {
+    throw Error(fmt::format("{}; the previous checkpoints are kept", e.what()));
+  }
   std::error_code ec;
-  if (!ok) {
-    fs::remove(tmp, ec);
-    throw Error(fmt::format("{}: cannot write the checkpoint ({}); the previous checkpoints are kept", tmp.string(),
-                            std::strerror(saved_errno)));
-  }
-  fs::rename(tmp, file, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw Error(fmt::format("{}: cannot rename the checkpoint ({})", file.string(), ec.message()));
-  }
   // The new one is complete: keep it and the newest other one; drop the .tmp a killed
   // write left.
   std::vector<fs::path> stale;
@@ -186,59 +162,95 @@ std::uint64_t write_checkpoint(const fs::path& dir, const CheckpointHeader& head
   return kMagic.size() + prefix.bytes().size() + h.size() + payload.size();
 }
 
-Checkpoint read_checkpoint(const fs::path& file) {
-  std::error_code ec;
-  const auto status = fs::status(file, ec);
-  if (!fs::exists(status))
-    throw Error(
-        fmt::format("{}: no such checkpoint; give an output directory or one of its "
-                    "checkpoint_NNNNNN.ckpt files",
-                    file.string()));
-  if (!fs::is_regular_file(status)) throw Error(fmt::format("{}: not a checkpoint file", file.string()));
-  // The signature and the sizes first: a large file named like a checkpoint is refused
-  // before anything is read whole.
-  const std::string name = file.string();
-  const std::uintmax_t size = fs::file_size(file, ec);
-  if (ec) throw Error(fmt::format("{}: cannot read the checkpoint ({})", name, ec.message()));
-  std::ifstream in(file, std::ios::binary);
-  std::string bytes(std::size_t(std::min<std::uintmax_t>(size, kPrefix)), '\0');
-  in.read(bytes.data(), std::streamsize(bytes.size()));
-  if (!in) throw Error(fmt::format("{}: cannot read the checkpoint", name));
-  if (bytes.size() < kMagic.size() || std::string_view(bytes).substr(0, kMagic.size()) != kMagic)
+namespace {
+
+struct Prefix {
+  std::uint64_t header_bytes = 0, payload_bytes = 0, sum = 0;
+};
+
+/// The signature, the format and the sizes, from the first min(size, kPrefix) bytes of a
+/// file of `size` bytes.
+Prefix check_prefix(std::string_view first, std::uintmax_t size, const std::string& name) {
+  if (first.size() < kMagic.size() || first.substr(0, kMagic.size()) != kMagic)
     throw Error(fmt::format("{}: not a shellflow checkpoint (no 'shellflow checkpoint' signature)", name));
-  if (bytes.size() < kPrefix)
+  if (first.size() < kPrefix)
     throw Error(fmt::format("{}: truncated ({} bytes, not even the header); restart from an earlier checkpoint", name,
-                            bytes.size()));
-  ArchiveReader prefix(std::string_view(bytes).substr(kMagic.size(), kPrefix - kMagic.size()), name);
+                            first.size()));
+  ArchiveReader prefix(first.substr(kMagic.size(), kPrefix - kMagic.size()), name);
   const auto format = prefix.get<std::uint32_t>();
   if (format != kCheckpointFormat)
     throw Error(
         fmt::format("{}: checkpoint format {}, this shellflow reads format {}; continue it with the "
                     "shellflow that wrote it",
                     name, format, kCheckpointFormat));
-  const auto header_bytes = prefix.get<std::uint64_t>(), payload_bytes = prefix.get<std::uint64_t>();
-  const auto sum = prefix.get<std::uint64_t>();
+  Prefix p;
+  p.header_bytes = prefix.get<std::uint64_t>();
+  p.payload_bytes = prefix.get<std::uint64_t>();
+  p.sum = prefix.get<std::uint64_t>();
   const std::uintmax_t body = size - kPrefix;
-  if (header_bytes > body || payload_bytes > body - header_bytes)
+  if (p.header_bytes > body || p.payload_bytes > body - p.header_bytes)
     throw Error(fmt::format("{}: truncated ({} bytes of {}); restart from an earlier checkpoint", name, size,
-                            kPrefix + header_bytes + payload_bytes));
-  if (header_bytes + payload_bytes != body)
+                            kPrefix + p.header_bytes + p.payload_bytes));
+  if (p.header_bytes + p.payload_bytes != body)
     throw Error(fmt::format("{}: {} bytes after the end of the checkpoint; the file is damaged", name,
-                            body - header_bytes - payload_bytes));
-  bytes.resize(std::size_t(size));
-  in.read(bytes.data() + kPrefix, std::streamsize(body));
-  if (!in) throw Error(fmt::format("{}: cannot read the checkpoint", name));
-  const std::string_view rest = std::string_view(bytes).substr(kPrefix);
-  const std::string_view head = rest.substr(0, header_bytes), tail = rest.substr(header_bytes);
+                            body - p.header_bytes - p.payload_bytes));
+  return p;
+}
+
+/// The checksum, the header and its sense, from the bytes after the prefix.
+Checkpoint parse_rest(std::string_view rest, const Prefix& p, const fs::path& file) {
+  const std::string name = printable(file.string());
+  const std::string_view head = rest.substr(0, p.header_bytes), tail = rest.substr(p.header_bytes);
   if (checksum64(std::as_bytes(std::span(tail.data(), tail.size())),
-                 checksum64(std::as_bytes(std::span(head.data(), head.size())))) != sum)
+                 checksum64(std::as_bytes(std::span(head.data(), head.size())))) != p.sum)
     throw Error(fmt::format("{}: checksum mismatch, the file is damaged; restart from an earlier checkpoint", name));
   Checkpoint c;
   c.file = file;
-  ArchiveReader header(rest.substr(0, header_bytes), name);
+  ArchiveReader header(head, name);
   c.header = get_header(header);
-  c.payload = std::string(rest.substr(header_bytes));
+  // The checksum is no signature (anyone can compute one): the header's sense is checked too.
+  const CheckpointHeader& h = c.header;
+  if (h.step < 0 || double(h.step) > kMaxSteps || !std::isfinite(h.time) || h.time < 0.0)
+    throw Error(fmt::format("{}: damaged (step {}, t = {} s; a checkpoint is at a step in [0, {:.0e}] and a time >= 0)",
+                            name, h.step, h.time, kMaxSteps));
+  if (const auto named = checkpoint_step(file.filename().string()); named && *named != h.step)
+    throw Error(
+        fmt::format("{}: holds step {}, its name says step {}; the file was renamed or damaged", name, h.step, *named));
+  c.payload = std::string(tail);
   return c;
+}
+
+}  // namespace
+
+Checkpoint parse_checkpoint(std::string_view bytes, const fs::path& file) {
+  const Prefix p =
+      check_prefix(bytes.substr(0, std::min(bytes.size(), kPrefix)), bytes.size(), printable(file.string()));
+  return parse_rest(bytes.substr(kPrefix), p, file);
+}
+
+Checkpoint read_checkpoint(const fs::path& file) {
+  const std::string name = printable(file.string());
+  std::error_code ec;
+  const auto status = fs::status(file, ec);
+  if (!fs::exists(status))
+    throw Error(
+        fmt::format("{}: no such checkpoint; give an output directory or one of its "
+                    "checkpoint_NNNNNN.ckpt files",
+                    name));
+  if (!fs::is_regular_file(status)) throw Error(fmt::format("{}: not a checkpoint file", name));
+  // The signature and the sizes first: a large file named like a checkpoint is refused
+  // before anything is read whole.
+  const std::uintmax_t size = fs::file_size(file, ec);
+  if (ec) throw Error(fmt::format("{}: cannot read the checkpoint ({})", name, ec.message()));
+  std::ifstream in(file, std::ios::binary);
+  std::string bytes(std::size_t(std::min<std::uintmax_t>(size, kPrefix)), '\0');
+  in.read(bytes.data(), std::streamsize(bytes.size()));
+  if (!in) throw Error(fmt::format("{}: cannot read the checkpoint", name));
+  const Prefix p = check_prefix(bytes, size, name);
+  bytes.resize(std::size_t(size));
+  in.read(bytes.data() + kPrefix, std::streamsize(size - kPrefix));
+  if (!in) throw Error(fmt::format("{}: cannot read the checkpoint", name));
+  return parse_rest(std::string_view(bytes).substr(kPrefix), p, file);
 }
 
 fs::path find_checkpoint(const fs::path& path) {
@@ -270,17 +282,17 @@ std::string checkpoint_mismatch(const Checkpoint& c, const CheckpointHeader& now
     return fmt::format(
         "{}: written by shellflow {}, this is shellflow {}; continue it with the shellflow that "
         "wrote it",
-        name, then.program_version, now.program_version);
+        name, printable(then.program_version), now.program_version);
   if (then.case_name != now.case_name)
-    return fmt::format("{}: a checkpoint of case '{}', not of '{}'", name, then.case_name, now.case_name);
+    return fmt::format("{}: a checkpoint of case '{}', not of '{}'", name, printable(then.case_name), now.case_name);
   std::vector<std::string> changed;
   for (const auto& d : then.digests) {
     const auto it =
         std::find_if(now.digests.begin(), now.digests.end(), [&](const auto& e) { return e.name == d.name; });
     if (it == now.digests.end())
-      changed.push_back(d.name + " (removed)");
+      changed.push_back(printable(d.name) + " (removed)");
     else if (it->digest != d.digest)
-      changed.push_back(d.name);
+      changed.push_back(printable(d.name));
   }
   for (const auto& d : now.digests)
     if (std::none_of(then.digests.begin(), then.digests.end(), [&](const auto& e) { return e.name == d.name; }))

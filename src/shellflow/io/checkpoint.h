@@ -83,6 +83,10 @@ std::uint64_t write_checkpoint(const std::filesystem::path& dir, const Checkpoin
 /// checkpoint, of another format, truncated, or damaged (checksum).
 Checkpoint read_checkpoint(const std::filesystem::path& file);
 
+/// read_checkpoint's checks on the bytes of a whole file in memory (`file` names it in the
+/// messages; its name's step is compared with the header's). The fuzz target's entry.
+Checkpoint parse_checkpoint(std::string_view bytes, const std::filesystem::path& file);
+
 /// `path` as given to --restart: a checkpoint file, or an output directory (its newest
 /// complete checkpoint). Throws Error when there is none.
 std::filesystem::path find_checkpoint(const std::filesystem::path& path);

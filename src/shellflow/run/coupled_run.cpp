@@ -123,7 +123,7 @@ void run_coupled(const RunContext& run) {
   try {
     step_in_time(run.control, run.recorder, stepping);
   } catch (...) {
-    response.write_on_error();
+    if (!run.control.restarting() || run.control.restored()) response.write_on_error();  // not for a refused restart
     throw;
   }
   // 4. The summary, response.json and the plots.

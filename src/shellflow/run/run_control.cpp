@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstring>
 #include <ctime>
 #include <set>
@@ -89,6 +90,15 @@ io::Checkpoint load_restart(const fs::path& path, const io::Case& c) {
     if (d.name.starts_with("mesh ")) digests.push_back(d);
   if (const std::string why = io::checkpoint_mismatch(checkpoint, current_header(c, digests)); !why.empty())
     throw Error(why);
+  // A restart continues a run: its checkpoint lies before time.end (refused before anything is
+  // set up or written; the time loop checks the step once it knows the steps).
+  const io::CheckpointHeader& then = checkpoint.header;
+  if (c.time && then.time >= c.time->end * (1.0 - 1e-9))
+    throw Error(fmt::format(
+        "{}: step {} (t = {:.6g} s) is {} time.end = {:.6g} s of this run; raise time.end (--set time.end=...) to "
+        "continue it",
+        checkpoint.file.string(), then.step, then.time, then.time > c.time->end * (1.0 + 1e-9) ? "after" : "at",
+        c.time->end));
   return checkpoint;
 }
 
@@ -156,7 +166,7 @@ void RunControl::set_state(std::string kind, std::function<void(ArchiveWriter&)>
   restore_ = std::move(restore);
 }
 
-void RunControl::restore() {
+void RunControl::restore(const std::function<double()>& time, long steps, double end_time) {
   if (!restart_) return;
   ArchiveReader in(restart_->payload, restart_->file.string());
   const std::string kind = in.get_string();
@@ -174,6 +184,18 @@ void RunControl::restore() {
   }
   if (restore_) restore_(in);
   in.expect_end();
+  // The restored state's time is the header's, and (fixed steps) that of its step.
+  const io::CheckpointHeader& h = restart_->header;
+  if (time) {
+    const double t = time();
+    if (t != h.time)
+      throw Error(
+          fmt::format("{}: damaged (the header says t = {:.17g} s, the state t = {:.17g} s)", in.what(), h.time, t));
+    const double dt = steps > 0 ? end_time / double(steps) : 0.0;
+    if (steps > 0 && !(std::abs(t - double(h.step) * dt) <= dt))
+      throw Error(fmt::format("{}: damaged (t = {:.6g} s at step {}, but step {} of this run is at t = {:.6g} s)",
+                              in.what(), t, h.step, h.step, double(h.step) * dt));
+  }
   // Frames after the checkpoint (a killed run's, or the last frame of a stopped run that is
   // not in the series) are written again or were never part of the uninterrupted run.
   // The .tmp files of writes a kill interrupted go too.
@@ -190,6 +212,7 @@ void RunControl::restore() {
   std::size_t removed = 0;
   for (const fs::path& p : later) removed += fs::remove(p, ec) ? 1 : 0;
   if (removed > 0) spdlog::info("restart: removed {} file(s) written after the checkpoint", removed);
+  restored_ = true;
 }
 
 bool RunControl::stop_due(long steps_done) const {

@@ -50,6 +50,8 @@ class RunControl {
   /// How writers of this run open their files: resume on a restart.
   io::OutputMode output_mode() const { return restart_ ? io::OutputMode::resume : io::OutputMode::create; }
   bool restarting() const { return restart_.has_value(); }
+  /// The checkpoint this run continues (null for a new run).
+  const io::Checkpoint* restart() const { return restart_ ? &*restart_ : nullptr; }
   /// The first step this invocation makes (1, or the checkpoint's step + 1).
   long first_step() const { return restart_ ? restart_->header.step + 1 : 1; }
 
@@ -61,8 +63,12 @@ class RunControl {
                  std::function<void(ArchiveReader&)> restore);
   /// On a restart: every writer and the state back to the checkpoint, and the frames
   /// (<mesh>_NNNNNN.vtu) written after it removed. Throws Error when the checkpoint does not
-  /// fit this run. A no-op for a new run.
-  void restore();
+  /// fit this run: also when the restored state's `time()` is not the header's, or (with
+  /// `steps` > 0 fixed steps up to `end_time`) not that of its step. A no-op for a new run.
+  void restore(const std::function<double()>& time = {}, long steps = 0, double end_time = 0.0);
+  /// Whether restore() put a restarted run back (false before, and after a refusal): a run
+  /// that fails before that writes nothing on its way out.
+  bool restored() const { return restored_; }
 
   /// A run that does not step in time (static, modal): Error on a restart, a warning for
   /// the stop and checkpoint options (`what`: "a static analysis").
@@ -104,6 +110,7 @@ class RunControl {
   std::uint64_t bytes_ = 0;
   std::optional<std::filesystem::path> last_file_;
   bool armed_ = false;
+  bool restored_ = false;
   struct sigaction old_int_ {
   }, old_term_{};
 };

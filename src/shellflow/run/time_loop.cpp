@@ -42,11 +42,30 @@ long run_time_loop(const TimeLoop& loop, const std::function<double(long)>& adva
   return control && control->stopped() ? step : step - 1;
 }
 
+namespace {
+
+/// A checkpoint's step is one this run makes, and not its last: a restart continues a run.
+void check_restart_step(const RunControl& control, const TimeLoop& loop) {
+  const io::Checkpoint& c = *control.restart();
+  const long step = c.header.step;
+  const bool done = loop.steps > 0 ? step >= loop.steps : (loop.more && !loop.more(step));
+  if (done)
+    throw Error(
+        fmt::format("{}: step {} (t = {:.6g} s) is {} the end of this run ({}); raise time.end (--set time.end=...) to "
+                    "continue it",
+                    c.file.string(), step, c.header.time, loop.steps > 0 && step > loop.steps ? "after" : "at",
+                    loop.steps > 0 ? fmt::format("{} steps, time.end = {:.6g} s", loop.steps, loop.end_time)
+                                   : fmt::format("time.end = {:.6g}", loop.end_time)));
+}
+
+}  // namespace
+
 long step_in_time(RunControl& control, Recorder& recorder, const TimeStepping& s) {
   recorder.register_outputs(control);
   control.set_state(s.kind, s.save, s.restore);
   if (control.restarting()) {
-    control.restore();
+    check_restart_step(control, s.loop);  // before any file is touched
+    control.restore(s.time, s.loop.steps, s.loop.end_time);
   } else {
     if (s.before_frame_0) s.before_frame_0();
     recorder.record(0, s.time(), Record::probes_and_fields);
