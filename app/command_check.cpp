@@ -13,7 +13,8 @@ int check_command(const CommonOptions& options) {
   // sound mesh), also those no physical group is looked up in.
   for (auto key : io::kMeshKeys)
     if (const io::MeshSpec* spec = c.meshes.find(key)) mesh::check_gmsh_input(spec->file);
-  io::check_case_groups(c);  // reads the groups from the .geo/.msh files, no meshing
+  io::check_case_groups(c);                   // reads the groups from the .geo/.msh files, no meshing
+  if (c.study) check_study_case(c, options);  // study.set as `study` applies it
   std::size_t meshes = 0;
   for (auto key : io::kMeshKeys) meshes += c.meshes.find(key) != nullptr;
   fmt::print("{}: OK (case '{}': {} mesh(es), {} physical-group reference(s), {} probe(s))\n",

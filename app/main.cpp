@@ -13,7 +13,9 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
 #include <map>
 #include <string>
@@ -42,12 +44,22 @@ int main(int argc, char** argv) {
       "Environment: OMP_NUM_THREADS (threads of a run), OMP_WAIT_POLICY=passive (on a loaded "
       "machine), SHELLFLOW_SIMD=auto|sse2|avx2|avx2-fma|avx512 (instruction set of the flow's element "
       "pass; default auto: the best the CPU has; sse2 is the reference, avx2 gives its bits, "
-      "avx2-fma and avx512 round differently).");
+      "avx2-fma and avx512 round differently), SHELLFLOW_GEO_TIMEOUT=seconds (the most Gmsh may take to read a "
+      ".geo; default 120). An output folder is used by one process at a time (.shellflow.lock) and no file is "
+      "written through a symbolic link there (docs/output.md).");
   cli.fallthrough();  // -v/-q also after the subcommand
   bool verbose = false, quiet = false;
   cli.add_flag("-v,--verbose", verbose, "Print debug messages (and Gmsh's progress)");
   cli.add_flag("-q,--quiet", quiet, "Print warnings and errors only");
 
+  // nan and inf pass CLI::PositiveNumber (nan <= 0 is false): numbers of the command line are finite.
+  const CLI::Validator finite(
+      [](std::string& text) {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        return std::isfinite(x) ? std::string() : std::string("must be a finite number");
+      },
+      "FINITE");
   app::CommonOptions options;
   bool json = false;
   auto add_case = [&](CLI::App* sub) {
@@ -84,7 +96,7 @@ int main(int argc, char** argv) {
   run->add_option("--stop-at-wall", stop.stop_at_wall,
                   "Stop at the first step boundary after SECONDS of wall time with a checkpoint (exit code 75), "
                   "e.g. before a batch queue's limit")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::PositiveNumber & finite);
   auto* mesh = cli.add_subcommand("mesh",
                                   "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
                                   "<mesh>.vtu, print sizes and quality, plot the meshes");
@@ -111,9 +123,11 @@ int main(int argc, char** argv) {
                    "density and pressure")
       ->transform(CLI::CheckedTransformer(std::map<std::string, coupling::FlutterParameter>{
           {"lambda", coupling::FlutterParameter::lambda}, {"mach", coupling::FlutterParameter::mach}}));
-  flutter->add_option("--range", flutter_options.range,
-                      "LO HI of the parameter (default: lambda 0..max(1000, 2 lambda_case), Mach "
-                      "1.2..max(3, 2 M_case), widened up to 8x until a boundary is found)");
+  flutter
+      ->add_option("--range", flutter_options.range,
+                   "LO HI of the parameter (default: lambda 0..max(1000, 2 lambda_case), Mach "
+                   "1.2..max(3, 2 M_case), widened up to 8x until a boundary is found)")
+      ->check(finite);
   flutter
       ->add_option("--points", flutter_options.points,
                    "Parameter values of the sweep (the boundary is then "

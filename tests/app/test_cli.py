@@ -874,6 +874,17 @@ class InputHardening(unittest.TestCase):
             self.assertIn(needle, error[0])
         return error[0]
 
+    def test_numbers_of_the_command_line_are_finite(self):
+        # nan passes CLI::PositiveNumber (nan <= 0 is false): --stop-at-wall nan never stopped.
+        piston = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml")
+        for args in (("run", piston, "--stop-at-wall", "nan"), ("run", piston, "--stop-at-wall", "inf"),
+                     ("flutter", piston, "--range", "nan", "3")):
+            with self.subTest(args[-2]):
+                r = self.run_in_dir(*args)
+                self.assertEqual(r.returncode, 105, r.stderr)  # CLI11's ValidationError, as for every bad option
+                self.assertIn("must be a finite number", r.stderr)
+                self.assertFalse(os.path.exists(os.path.join(self.dir, "out")), "nothing written")
+
     def strip_msh(self):
         """A good .msh of the panel strip, written by `shellflow mesh`."""
         case = self.case("geo: %s, order: 3" % self.STRIP_GEO, "good.yaml")

@@ -7,9 +7,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <string>
 #include <vector>
 
 #include "reference_strip.h"
+#include "shellflow/core/error.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/modal.h"
 #include "shellflow/shell/newmark_solver.h"
@@ -29,6 +31,18 @@ TEST(ReferenceStripVibration, FirstThreeFrequenciesMatchPlateStripTheory) {
     EXPECT_NEAR(f / reference[k], 1.0, 2e-3) << "mode " << k + 1;
   }
   std::printf("subspace iterations: %d\n", modes.iterations);
+}
+
+TEST(ReferenceStripVibration, MoreModesThanFreeDofsWithMassNamesTheCause) {
+  const ShellModel model = reference_strip();
+  try {
+    (void)natural_frequencies(model, 5000, Eigen::VectorXd::Zero(model.num_dofs()));
+    FAIL() << "5000 modes of a model with " << model.num_dofs() << " dofs";
+  } catch (const SolverError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("5000 modes asked for"), std::string::npos) << what;
+    EXPECT_NE(what.find("free degrees of freedom with mass"), std::string::npos) << what;
+  }
 }
 
 /// Times where q(t) crosses zero downwards/upwards, by linear interpolation between steps.

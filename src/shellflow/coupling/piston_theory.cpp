@@ -1,6 +1,7 @@
 #include "shellflow/coupling/piston_theory.h"
 
 #include <cmath>
+#include <numbers>
 
 #include "shellflow/core/error.h"
 
@@ -13,6 +14,9 @@ PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow
         "piston theory needs a supersonic free stream, got Mach {}; use "
         "fluid.model: euler below Mach 1",
         flow_.mach);
+  if (flow_.mach < kPistonTheoryMinMach)  // io::check_coupled_case says it first, with the case's key
+    throw_input_error("piston theory at Mach {}: below its validity limit, Mach {}; use fluid.model: euler", flow_.mach,
+                      kPistonTheoryMinMach);
   if (!(flow_.density > 0.0) || !(flow_.speed > 0.0))
     throw_input_error("piston theory: free-stream density {} kg/m^3 and speed {} m/s must be positive", flow_.density,
                       flow_.speed);
@@ -42,6 +46,37 @@ PistonTheory::PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow
     for (std::size_t a = 0; a < n; ++a) dphi_dx_[n * k + a] = c.x() * dN[2 * a] + c.y() * dN[2 * a + 1];
     sign_[k] = lp.normal.dot(flow_.wet_normal) >= 0.0 ? 1.0 : -1.0;
     normal_[k] = sign_[k] * lp.normal;
+  }
+  check_geometry(points);
+}
+
+void PistonTheory::check_geometry(std::span<const shell::LoadPoint> points) const {
+  // The wet side: the wet normal crosses the panel (within 60 degrees of every normal).
+  Vec3 mean = Vec3::Zero();
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const double c = std::abs(points[k].normal.dot(flow_.wet_normal));
+    if (c < 0.5)
+      throw_input_error(
+          "coupling.wet_normal [{:.6g}, {:.6g}, {:.6g}] lies {:.1f} degrees from the panel's normal at ({:.6g}, "
+          "{:.6g}, {:.6g}), close to the panel's plane: it must point from the shell into the flow, across the "
+          "panel (within 60 degrees of its normal)",
+          flow_.wet_normal.x(), flow_.wet_normal.y(), flow_.wet_normal.z(), std::acos(c) * 180.0 / std::numbers::pi,
+          points[k].position.x(), points[k].position.y(), points[k].position.z());
+    mean += points[k].weight * normal_[k];
+  }
+  // The stream along the panel: piston theory's pressure is that of small slopes of a panel
+  // the stream passes along, not of a stream blowing onto it.
+  if (mean.norm() > 0.0) {
+    const double s = flow_.direction.dot(mean.normalized());
+    if (std::abs(s) > kPistonTheoryMaxIncidence)
+      throw_input_error(
+          "fluid.free_stream.direction [{:.6g}, {:.6g}, {:.6g}] is {:.2f} degrees {} the panel (mean wet normal "
+          "[{:.4g}, {:.4g}, {:.4g}]); piston theory models a stream along the panel (at most {:.2f} degrees): turn "
+          "the direction into the panel's plane, or use fluid.model: euler",
+          flow_.direction.x(), flow_.direction.y(), flow_.direction.z(),
+          std::asin(std::abs(s)) * 180.0 / std::numbers::pi, s < 0.0 ? "into" : "away from", mean.normalized().x(),
+          mean.normalized().y(), mean.normalized().z(),
+          std::asin(kPistonTheoryMaxIncidence) * 180.0 / std::numbers::pi);
   }
 }
 

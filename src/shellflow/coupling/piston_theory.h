@@ -23,6 +23,12 @@
 
 namespace shellflow::coupling {
 
+/// Validity limits (docs/coupling.md, "Piston theory"): the lowest Mach number accepted
+/// (below it the stream over the panel is transonic and 1/beta grows without bound), and the
+/// largest sine of the angle between the stream and the panel (a stream along the panel).
+inline constexpr double kPistonTheoryMinMach = 1.2;
+inline constexpr double kPistonTheoryMaxIncidence = 0.02;  // about 1.15 degrees
+
 struct PistonTheoryFlow {
   double density = 0.0;             ///< rho_inf [kg/m^3]
   double speed = 0.0;               ///< U [m/s]
@@ -33,7 +39,9 @@ struct PistonTheoryFlow {
 
 class PistonTheory {
  public:
-  /// Throws InputError for M <= 1 (piston theory is supersonic), a non-positive density or speed.
+  /// Throws InputError for M < kPistonTheoryMinMach, a non-positive density or speed, a wet
+  /// normal within 30 degrees of the panel's plane at a load point, a stream more than
+  /// kPistonTheoryMaxIncidence (sine) off the panel's mean plane.
   PistonTheory(const shell::ShellModel& model, PistonTheoryFlow flow);
 
   /// dp_k at every load point of the shell state (u, v).
@@ -52,6 +60,8 @@ class PistonTheory {
   double damping_coefficient() const { return q_damping_; }
 
  private:
+  void check_geometry(std::span<const shell::LoadPoint> points) const;
+
   const shell::ShellModel& model_;
   PistonTheoryFlow flow_;
   double q_stiffness_ = 0.0, q_damping_ = 0.0;

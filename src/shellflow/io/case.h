@@ -109,6 +109,9 @@ struct CouplingSection {
 
 /// The most steps a case's time section may ask for (time.end / time.step).
 inline constexpr double kMaxSteps = 1e9;
+/// The lowest free-stream Mach number of a piston-theory case (coupling::kPistonTheoryMinMach;
+/// docs/coupling.md, "Validity limits").
+inline constexpr double kPistonTheoryMinMach = 1.2;
 
 struct TimeSection {
   double end = 0.0;   ///< [s], > 0

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <array>
+#include <cmath>
 #include <string_view>
 #include <utility>
 
@@ -29,7 +30,29 @@ constexpr std::array<std::pair<std::string_view, std::string_view>, 10> kLoadPat
 }};
 constexpr std::array<std::string_view, 3> kModalKeys = {"modes", "tolerance", "max_iterations"};
 
+constexpr double kMinPoissonRatio = -0.9, kMaxPoissonRatio = 0.49, kMaxWaveSpeed = 1e6;
+
 }  // namespace
+
+/// Data the model cannot stand although each value is in its range: near-singular material
+/// laws (docs/case-format.md, "Validity limits").
+void check_material(const YamlNode& material, const Material& m) {
+  const double nu = m.poisson_ratio;
+  if (nu <= kMinPoissonRatio || nu > kMaxPoissonRatio)
+    material.fail("poisson_ratio",
+                  fmt::format("{} is too close to {}: the 3-D law of the 7-parameter shell becomes near-singular "
+                              "({} = {:.3g}); shellflow accepts {} < nu <= {}",
+                              nu, nu < 0 ? "-1" : "0.5", nu < 0 ? "1 + nu" : "1 - 2 nu", nu < 0 ? 1 + nu : 1 - 2 * nu,
+                              kMinPoissonRatio, kMaxPoissonRatio));
+  // A solid's wave speed sqrt(E / rho) is a few km/s (steel 5.1e3 m/s, beryllium 1.3e4): a
+  // thousand times more is a unit slip, and a near-singular mass matrix.
+  if (m.density > 0.0 && std::sqrt(m.young_modulus / m.density) > kMaxWaveSpeed)
+    material.fail("density",
+                  fmt::format("{} kg/m^3 with young_modulus {} Pa gives a wave speed sqrt(E/rho) = {:.3g} "
+                              "m/s, above {:.0e} m/s (steel: 5.1e3): a near-singular mass matrix; check the "
+                              "units (kg/m^3, Pa)",
+                              m.density, m.young_modulus, std::sqrt(m.young_modulus / m.density), kMaxWaveSpeed));
+}
 
 namespace detail {
 
@@ -41,6 +64,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
   shell.material.young_modulus = material.required<double>("young_modulus", Range::positive(), "Pa");
   shell.material.poisson_ratio = material.required<double>("poisson_ratio", Range::open(-1, 0.5));
   shell.material.density = material.required<double>("density", Range::non_negative(), "kg/m^3");
+  check_material(material, shell.material);
   material.finish();
 
   for (const YamlNode& item : node.optional_list("supports")) {

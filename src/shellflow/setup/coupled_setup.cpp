@@ -161,6 +161,8 @@ double added_mass_ratio(const io::Case& c) {
   return f.density * sound_speed * c.time->step / (c.shell->material.density * c.shell->thickness);
 }
 
+static_assert(io::kPistonTheoryMinMach == coupling::kPistonTheoryMinMach, "one validity limit, two modules");
+
 coupling::PistonTheoryFlow piston_flow(const io::Case& c, const Vec3& wet_normal) {
   // Speed and Mach number from the case's one conversion (U = M a).
   coupling::PistonTheoryFlow flow;

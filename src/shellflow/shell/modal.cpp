@@ -93,7 +93,15 @@ ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen:
     throw SolverError("shell modal analysis: the stiffness matrix is singular; check the supports");
 
   const Eigen::Index n = K.rows();
-  const int p = count + options.extra_vectors;
+  // The modes there are: one per free dof that carries mass (M's other rows are zero).
+  Eigen::Index massful = 0;
+  for (Eigen::Index i = 0; i < n; ++i) massful += M.coeff(i, i) > 0.0 ? 1 : 0;
+  if (count > massful)
+    throw SolverError(fmt::format(
+        "shell modal analysis: {} modes asked for, but the supported shell has {} free degrees of freedom with "
+        "mass, so {} modes at most: ask for fewer (shell.analysis.modes, flutter --modes) or refine the mesh",
+        count, massful, massful));
+  const int p = static_cast<int>(std::min<Eigen::Index>(count + options.extra_vectors, massful));
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> dist(-1.0, 1.0);
   Eigen::MatrixXd X(n, p);
