@@ -885,6 +885,20 @@ class InputHardening(unittest.TestCase):
                 self.assertIn("must be a finite number", r.stderr)
                 self.assertFalse(os.path.exists(os.path.join(self.dir, "out")), "nothing written")
 
+    def test_too_few_shell_steps_per_period_are_warned(self):
+        # 3 steps per flutter period flipped the growth rate's sign without a word (issue 24).
+        piston = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml")
+        out = os.path.join(self.dir, "coarse_step")
+        r = self.run_in_dir("run", piston, "-o", out, "--no-plot", "--set", "time.step=0.004", "--set", "time.end=0.1")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        warning = [l for l in r.stderr.splitlines() if "steps per period of the response" in l]
+        self.assertEqual(len(warning), 1, r.stderr)
+        self.assertIn("time.step 0.004 s gives 2.8 steps per period", warning[0])
+        self.assertIn("fewer than 20", warning[0])
+        r = self.run_in_dir("run", piston, "-o", out, "--no-plot", "--set", "time.end=0.03")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertNotIn("steps per period", r.stderr)  # the case's own step: 1e-4 s, over 100 per period
+
     def strip_msh(self):
         """A good .msh of the panel strip, written by `shellflow mesh`."""
         case = self.case("geo: %s, order: 3" % self.STRIP_GEO, "good.yaml")
