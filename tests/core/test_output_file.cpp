@@ -1,16 +1,15 @@
 // core/output_file.h: no write through a symbolic link, one process per output folder.
-#include "shellflow/core/output_file.h"
-
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <filesystem>
-#include <optional>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 
 namespace shellflow {
 namespace {
@@ -27,9 +26,8 @@ std::string slurp(const fs::path& p) {
 class OutputFile : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("shellflow_output_file_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("shellflow_output_file_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::remove_all(dir_);
     fs::create_directories(dir_ / "out");
     victim_ = dir_ / "victim.txt";

@@ -116,8 +116,8 @@ AppendFile::AppendFile(const fs::path& path, Mode mode) : path_(path) {
   if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
     ::close(fd_);
     fd_ = -1;
-    throw Error(fmt::format("{}: not a regular file; remove it, or choose another folder with -o",
-                            printable(path.string())));
+    throw Error(
+        fmt::format("{}: not a regular file; remove it, or choose another folder with -o", printable(path.string())));
   }
 }
 
@@ -164,8 +164,8 @@ std::string AppendFile::read_at(std::uint64_t offset, std::size_t n) const {
 
 void AppendFile::truncate(std::uint64_t size) {
   if (fd_ < 0 || ::ftruncate(fd_, off_t(size)) != 0)
-    throw Error(fmt::format("{}: cannot cut it back to {} bytes ({})", printable(path_.string()), size,
-                            std::strerror(errno)));
+    throw Error(
+        fmt::format("{}: cannot cut it back to {} bytes ({})", printable(path_.string()), size, std::strerror(errno)));
 }
 
 // ---- temporaries for other writers ------------------------------------------------------
@@ -176,8 +176,8 @@ fs::path private_temporary(const fs::path& dir, const std::string& stem, const s
   buffer.push_back('\0');
   const int fd = ::mkstemps(buffer.data(), int(extension.size()));  // O_CREAT | O_EXCL, mode 0600
   if (fd < 0)
-    throw Error(fmt::format("{}: cannot create a temporary file there ({})", printable(dir.string()),
-                            std::strerror(errno)));
+    throw Error(
+        fmt::format("{}: cannot create a temporary file there ({})", printable(dir.string()), std::strerror(errno)));
   ::fchmod(fd, 0644);
   ::close(fd);
   return fs::path(buffer.data());
@@ -198,10 +198,10 @@ OutputLock::OutputLock(const fs::path& dir) {
     ::close(fd_);
     fd_ = -1;
     if (err == EWOULDBLOCK)
-      throw Error(fmt::format(
-          "{}: another shellflow process{} is writing in this output folder; wait for it to end, or choose "
-          "another folder with -o",
-          printable(dir.string()), pid.empty() ? "" : fmt::format(" (pid {})", printable(pid))));
+      throw Error(
+          fmt::format("{}: another shellflow process{} is writing in this output folder; wait for it to end, or choose "
+                      "another folder with -o",
+                      printable(dir.string()), pid.empty() ? "" : fmt::format(" (pid {})", printable(pid))));
     throw Error(fmt::format("{}: cannot lock the output folder ({})", printable(file.string()), std::strerror(err)));
   }
   const std::string pid = fmt::format("{}\n", ::getpid());
