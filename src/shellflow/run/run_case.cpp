@@ -24,8 +24,10 @@ OutputFolder output_folder(const io::Case& c, const RunOptions& options, std::op
         fmt::format("--restart {} continues the run in {}; drop -o {} (a restart writes into the folder of its "
                     "checkpoint)",
                     restart.string(), outdir.string(), options.output_dir->string()));
-  if (!fs::is_directory(outdir, ec)) checkpoint = load_restart(restart, c);  // says what is missing
-  OutputFolder folder = open_output_dir(outdir);  // locked before the checkpoint is read
+  // A missing folder: load_restart says what is missing. Otherwise the folder is locked before
+  // the checkpoint is read.
+  if (!fs::is_directory(outdir, ec)) checkpoint = load_restart(restart, c);
+  OutputFolder folder = open_output_dir(outdir);
   checkpoint = load_restart(restart, c);
   return folder;
 }
