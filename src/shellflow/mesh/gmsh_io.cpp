@@ -290,7 +290,8 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
       try {
         gmsh::write(tmp.string());
       } catch (...) {
-        std::filesystem::remove(tmp);
+        std::error_code ignored;
+        std::filesystem::remove(tmp, ignored);  // the error on its way out is the one to report
         throw;
       }
       rename_into_place(tmp, out);
