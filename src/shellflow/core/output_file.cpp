@@ -1,6 +1,7 @@
 #include "shellflow/core/output_file.h"
 
 #include <fcntl.h>
+#include <spdlog/spdlog.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -191,6 +192,14 @@ OutputLock::OutputLock(const fs::path& dir) {
   if (fd_ < 0) throw_open_error(file, errno);
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
+    if (err == ENOLCK || err == EOPNOTSUPP || err == ENOSYS) {
+      // A file system without locks (some network mounts): the run goes on, unguarded.
+      spdlog::warn(
+          "{}: the file system does not lock files ({}); nothing keeps a second shellflow process out of "
+          "this output folder",
+          printable(dir.string()), std::strerror(err));
+      return;
+    }
     std::string pid(32, '\0');
     const ssize_t n = ::pread(fd_, pid.data(), pid.size(), 0);
     pid.resize(n > 0 ? std::size_t(n) : 0);

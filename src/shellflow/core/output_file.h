@@ -67,7 +67,8 @@ void rename_into_place(const std::filesystem::path& from, const std::filesystem:
 /// Holds `dir/.shellflow.lock` locked (flock, LOCK_EX) while it lives; the file holds the
 /// holder's pid. A second process gets one line naming the folder and that pid. The lock
 /// goes with the process (also when it is killed); the descriptor is not inherited by the
-/// programs a run starts.
+/// programs a run starts. On a file system without locks (ENOLCK, EOPNOTSUPP) it warns and
+/// holds nothing.
 class OutputLock {
  public:
   static constexpr const char* kFileName = ".shellflow.lock";
