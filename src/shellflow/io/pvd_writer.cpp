@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/vtu_writer.h"
 
 namespace shellflow::io {

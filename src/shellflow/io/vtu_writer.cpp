@@ -4,16 +4,14 @@
 
 #include <algorithm>
 #include <bit>
-#include <cerrno>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
-#include <fstream>
 #include <ostream>
 #include <set>
 #include <system_error>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 
 namespace shellflow::io {
 namespace {

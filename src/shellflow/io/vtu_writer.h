@@ -26,15 +26,12 @@
 // (core/output_file.h), so a run that dies mid-write never leaves a truncated file where a
 // readable one was, and a link named like the file is never written through.
 #include <filesystem>
-#include <functional>
-#include <iosfwd>
 #include <optional>
 #include <span>
 #include <string>
 #include <string_view>
 #include <vector>
 
-#include "shellflow/core/output_file.h"  // write_file_atomically
 #include "shellflow/core/types.h"
 
 namespace shellflow::io {

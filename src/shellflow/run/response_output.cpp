@@ -4,7 +4,6 @@
 #include <spdlog/spdlog.h>
 
 #include <cmath>
-#include <fstream>
 
 #include "shellflow/core/error.h"
 #include "shellflow/core/output_file.h"
