@@ -755,7 +755,8 @@ TEST(ReadCase, FluidViscosityAndNoSlipWalls) {
       "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
       "  boundaries:\n"
       "    - { group: inflow, type: no_slip_wall, velocity: [1, 0, 0], temperature: 300 }\n"
-      "    - { group: outflow, type: no_slip_wall }\n",
+      "    - { group: outflow, type: no_slip_wall }\n"
+      "    - { group: far_field, type: no_slip_wall, velocity: [\"20*y/0.01\", 0, \"t\"] }\n",
       data("inline.yaml"));
   const Viscosity& mu = c.fluid->gas.viscosity;
   EXPECT_EQ(mu.law, ViscosityLaw::sutherland);
@@ -763,7 +764,13 @@ TEST(ReadCase, FluidViscosityAndNoSlipWalls) {
   EXPECT_EQ(mu.t_ref, 300.0);
   EXPECT_EQ(mu.sutherland, 100.0);
   EXPECT_EQ(mu.prandtl, 0.72);
-  EXPECT_EQ(c.fluid->boundaries[0].wall_velocity, Vec3::UnitX());
+  const auto& v = *c.fluid->boundaries[0].wall_velocity;
+  const Vec3 x(0.3, 0.005, 0.1);
+  EXPECT_EQ(Vec3(v[0](x, 0.0), v[1](x, 0.0), v[2](x, 0.0)), Vec3::UnitX());
+  EXPECT_FALSE(c.fluid->boundaries[1].wall_velocity.has_value());
+  const auto& profile = *c.fluid->boundaries[2].wall_velocity;  // an inlet profile: expressions of x, y, z, t
+  EXPECT_DOUBLE_EQ(profile[0](x, 2.0), 10.0);
+  EXPECT_DOUBLE_EQ(profile[2](x, 2.0), 2.0);
   EXPECT_EQ(c.fluid->boundaries[0].wall_temperature, 300.0);
   EXPECT_FALSE(c.fluid->boundaries[1].wall_temperature.has_value());
 }

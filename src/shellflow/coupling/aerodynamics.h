@@ -5,6 +5,7 @@
 //     space mesh, sub-cycled inside the shell step (also without a flow: the mesh-motion tests);
 //   - PistonLoads (below): first-order piston theory from the shell's own motion.
 #include <Eigen/Core>
+#include <algorithm>
 #include <optional>
 #include <span>
 #include <string>
@@ -36,6 +37,12 @@ class AerodynamicModel {
   virtual void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) = 0;
   /// Per load point: +1 where the shell normal (like V) points into the flow.
   virtual std::span<const double> sign() const = 0;
+  /// True when the wet wall takes the gas's shear too (a no-slip wet wall of a viscous flow,
+  /// paper eq. 30): shear() then gives it, and the driver passes it to the shell.
+  virtual bool has_shear() const { return false; }
+  /// Viscous traction -tau n at every load point at the current time (force per area of the
+  /// gas on the shell, n out of the fluid, global axes); zero without shear.
+  virtual void shear(std::span<Vec3> out) { std::fill(out.begin(), out.end(), Vec3::Zero()); }
   /// Force of the gas (pressure minus the reference pressure) on the wet boundary from the
   /// fluid side, when the model has a fluid mesh.
   virtual std::optional<Vec3> fluid_side_force() const { return std::nullopt; }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -28,6 +29,18 @@ FlowModel::FlowModel(const mesh::Mesh& fluid_mesh, std::unique_ptr<fluid::FluidM
   wall_velocity_.resize(wall_.nodes.size());
   node_pressure_.resize(loads_.fluid_nodes.size());
   if (flow_) time_ = flow_->time();
+  if (flow_ && flow_->options().gas.viscous())
+    for (const fluid::BoundaryCondition& bc : flow_->boundaries().conditions())
+      has_shear_ = has_shear_ || (bc.group == wall_.group && bc.kind == fluid::BoundaryKind::no_slip_wall);
+  if (has_shear_) {
+    wall_shear_.resize(wall_.nodes.size());
+    for (const Index node : loads_.fluid_nodes) {
+      const auto it = std::lower_bound(wall_.nodes.begin(), wall_.nodes.end(), node);
+      if (it == wall_.nodes.end() || *it != node)
+        throw Error(fmt::format("coupling: load-map node {} is not a node of the wet group '{}'", node, wall_.group));
+      shear_slot_.push_back(std::size_t(it - wall_.nodes.begin()));
+    }
+  }
 }
 
 FlowStepReport FlowModel::substeps_for(double dt) {
@@ -126,6 +139,20 @@ void FlowModel::pressure_rise(const Eigen::VectorXd&, const Eigen::VectorXd&, st
   transfer_to_load_points(loads_, node_pressure_, dp);
 }
 
+void FlowModel::shear(std::span<Vec3> out) {
+  if (!has_shear_) {
+    std::fill(out.begin(), out.end(), Vec3::Zero());
+    return;
+  }
+  flow_->wall_shear(wall_.group, wall_shear_);
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    Vec3 t = Vec3::Zero();
+    for (std::size_t j = 0; j < 3; ++j)
+      t += loads_.weights[k][j] * wall_shear_[shear_slot_[std::size_t(loads_.slots[k][j])]];
+    out[k] = t;
+  }
+}
+
 void FlowModel::save(ArchiveWriter& out) const {
   out.put(time_);
   out.put(x_);
@@ -152,13 +179,21 @@ void FlowModel::restore(ArchiveReader& in) {
 std::optional<Vec3> FlowModel::fluid_side_force() const {
   if (!flow_) return std::nullopt;
   const auto x = flow_->positions();
+  const std::vector<Vec3>& shear = wall_shear_;  // of the last exchange (shear())
+  const auto slot = [&](Index node) {
+    return std::size_t(std::lower_bound(wall_.nodes.begin(), wall_.nodes.end(), node) - wall_.nodes.begin());
+  };
   Vec3 force = Vec3::Zero();
   for (const WetFace& f : faces_) {
     const Vec3& a = x[std::size_t(f.nodes[0])];
     const Vec3 area = 0.5 * (x[std::size_t(f.nodes[1])] - a).cross(x[std::size_t(f.nodes[2])] - a);
     double p = 0.0;
-    for (const Index i : f.nodes) p += flow_->pressure(i) - options_.reference_pressure;
-    force += (p / 3.0) * area;
+    Vec3 t = Vec3::Zero();
+    for (const Index i : f.nodes) {
+      p += flow_->pressure(i) - options_.reference_pressure;
+      if (has_shear_) t += shear[slot(i)];
+    }
+    force += (p / 3.0) * area + (area.norm() / 3.0) * t;
   }
   return force;
 }

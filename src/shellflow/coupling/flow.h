@@ -45,6 +45,13 @@ class FlowModel final : public AerodynamicModel {
   FlowStepReport advance(const ShellStepMotion& motion, double t_end) override;
   void pressure_rise(const Eigen::VectorXd& u, const Eigen::VectorXd& v, std::span<double> dp) override;
   std::span<const double> sign() const override { return loads_.sign; }
+  /// A no-slip wet wall of a viscous flow passes the shear.
+  bool has_shear() const override { return has_shear_; }
+  /// The wall elements' viscous traction (FluidModel::wall_shear) at the wet nodes,
+  /// interpolated to the load points with the pressure's weights.
+  void shear(std::span<Vec3> out) override;
+  /// Pressure (minus the reference) and shear on the wet faces, linear on each face; the
+  /// shear is that of the last exchange (shear()).
   std::optional<Vec3> fluid_side_force() const override;
   /// Time, fluid node positions and mesh velocities, the mover's and the flow's states.
   void save(ArchiveWriter& out) const override;
@@ -79,6 +86,9 @@ class FlowModel final : public AerodynamicModel {
   double time_ = 0.0;
   std::vector<Vec3> x_, w_, wall_displacement_, wall_velocity_;
   std::vector<double> node_pressure_;
+  bool has_shear_ = false;
+  std::vector<Vec3> wall_shear_;         ///< at wall_.nodes, of the last shear()
+  std::vector<std::size_t> shear_slot_;  ///< per loads_.fluid_nodes entry: its place in wall_.nodes
 };
 
 }  // namespace shellflow::coupling

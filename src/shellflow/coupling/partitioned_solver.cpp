@@ -11,13 +11,17 @@ namespace shellflow::coupling {
 
 namespace {
 
-/// The load points' reference areas: the weights of the coupling residual's norm.
-std::vector<double> reference_areas(const shell::ShellModel& model, const LoadPointBasis& basis) {
-  std::vector<double> area(basis.size());
+/// The load points' reference areas: the weights of the coupling residual's norm, once per
+/// load component (the pressure rise, then the three shear components of each point).
+std::vector<double> reference_areas(const shell::ShellModel& model, const LoadPointBasis& basis, bool shear) {
+  const std::size_t n = basis.size();
+  std::vector<double> area(shear ? 4 * n : n);
   Vec3 x1, x2;
-  for (std::size_t k = 0; k < area.size(); ++k) {
+  for (std::size_t k = 0; k < n; ++k) {
     basis.tangents(model, k, nullptr, x1, x2);
     area[k] = basis.plane_weight[k] * x1.cross(x2).norm();
+    if (shear)
+      for (std::size_t c = 0; c < 3; ++c) area[n + 3 * k + c] = area[k];
   }
   return area;
 }
@@ -32,19 +36,23 @@ PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSol
       motion_(motion),
       options_(options),
       basis_(model),
-      iterations_(options.iterations, reference_areas(model, basis_)) {
+      iterations_(options.iterations, reference_areas(model, basis_, flow.has_shear())) {
   const std::size_t n = model.load_points().size();
   if (options_.monolithic && iterations_.implicit())
     throw Error("coupling: the monolithic scheme has no coupling iterations (coupling.iterations must be 1)");
-  current_.assign(n, 0.0);
-  next_.assign(n, 0.0);
-  previous_.assign(n, 0.0);  // the three rotate every step: all of size n
-  guess_.assign(n, 0.0);
+  if (options_.monolithic && flow.has_shear())
+    throw Error("coupling: the monolithic scheme takes no shear (piston theory only)");
+  const std::size_t size = flow.has_shear() ? 4 * n : n;
+  current_.assign(size, 0.0);
+  next_.assign(size, 0.0);
+  previous_.assign(size, 0.0);  // the three rotate every step: all of one size
+  guess_.assign(size, 0.0);
   point_pressure_.assign(n, 0.0);
+  if (flow.has_shear()) point_shear_.assign(n, Vec3::Zero());
   if (flow.sign().size() != n)
     throw Error(fmt::format("coupling: the aerodynamic model has {} load points, the shell {}", flow.sign().size(), n));
   motion_.set_state(shell.time(), shell.displacement(), shell.velocity());
-  flow_.pressure_rise(shell.displacement(), shell.velocity(), current_);
+  collect_loads(current_);
   if (!options_.monolithic) {
     // The initial acceleration must balance the loads of t0 too: set them, then let the
     // shell recompute it (its state is otherwise kept).
@@ -59,21 +67,48 @@ void PartitionedSolver::predict() {
   for (std::size_t k = 0; k < current_.size(); ++k) guess_[k] = linear ? 2.0 * current_[k] - previous_[k] : current_[k];
 }
 
-void PartitionedSolver::apply_loads(std::span<const double> loads) {
-  const auto sign = flow_.sign();
-  // The gas pushes the wetted face back: along the shell normal N_k (like V) that is
-  // -sign_k dp_k (sign_k N_k points into the flow).
-  for (std::size_t k = 0; k < loads.size(); ++k) point_pressure_[k] = -sign[k] * loads[k];
-  model_.set_point_pressure(point_pressure_);
+void PartitionedSolver::collect_loads(std::span<double> loads) {
+  const std::size_t n = point_pressure_.size();
+  flow_.pressure_rise(shell_.displacement(), shell_.velocity(), loads.first(n));
+  if (point_shear_.empty()) return;
+  flow_.shear(point_shear_);
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t c = 0; c < 3; ++c) loads[n + 3 * k + c] = point_shear_[k][Eigen::Index(c)];
 }
 
-Vec3 PartitionedSolver::shell_side_force(std::span<const double> dp) const {
+void PartitionedSolver::apply_loads(std::span<const double> loads) {
   const auto sign = flow_.sign();
-  const auto& points = model_.load_points();
+  const std::size_t n = point_pressure_.size();
+  // The gas pushes the wetted face back: along the shell normal N_k (like V) that is
+  // -sign_k dp_k (sign_k N_k points into the flow).
+  for (std::size_t k = 0; k < n; ++k) point_pressure_[k] = -sign[k] * loads[k];
+  model_.set_point_pressure(point_pressure_);
+  if (point_shear_.empty()) return;
+  // The shear, per current area, becomes the shell's dead traction per reference area: times
+  // the area ratio of the current configuration (coupling.md).
+  for (std::size_t k = 0; k < n; ++k)
+    point_shear_[k] = area_ratio(k) * Vec3(loads[n + 3 * k], loads[n + 3 * k + 1], loads[n + 3 * k + 2]);
+  model_.set_point_traction(point_shear_);
+}
+
+double PartitionedSolver::area_ratio(std::size_t k) const {
+  Vec3 x1, x2, r1, r2;
+  basis_.tangents(model_, k, &shell_.displacement(), x1, x2);
+  basis_.tangents(model_, k, nullptr, r1, r2);
+  return x1.cross(x2).norm() / r1.cross(r2).norm();
+}
+
+Vec3 PartitionedSolver::shell_side_force(std::span<const double> loads) const {
+  const auto sign = flow_.sign();
+  const std::size_t n = model_.load_points().size();
+  const bool shear = loads.size() == 4 * n;
   Vec3 f = Vec3::Zero(), x1, x2;
-  for (std::size_t k = 0; k < points.size(); ++k) {
+  for (std::size_t k = 0; k < n; ++k) {
     basis_.tangents(model_, k, &shell_.displacement(), x1, x2);
-    f += (-sign[k] * dp[k] * basis_.plane_weight[k]) * x1.cross(x2);
+    f += (-sign[k] * loads[k] * basis_.plane_weight[k]) * x1.cross(x2);
+    if (shear)
+      f += (basis_.plane_weight[k] * x1.cross(x2).norm()) *
+           Vec3(loads[n + 3 * k], loads[n + 3 * k + 1], loads[n + 3 * k + 2]);
   }
   return f;
 }
@@ -136,7 +171,7 @@ CouplingStepReport PartitionedSolver::step(double dt) {
       throw;
     }
     c = Clock::now();
-    flow_.pressure_rise(shell_.displacement(), shell_.velocity(), next_);
+    collect_loads(next_);
     report.transfer_seconds += seconds(c);
     c = Clock::now();
     const auto outcome = iterations_.result(next_);

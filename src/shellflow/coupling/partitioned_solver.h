@@ -64,10 +64,14 @@ class PartitionedSolver {
 
   double time() const { return shell_.time(); }
   /// Pressure rise over the reference at the load points at time() (the loads of t_i).
-  std::span<const double> pressure_rise() const { return current_; }
-  /// Resultant of the pressure rise dp on the shell in its current configuration:
-  /// sum_k (-sign_k dp_k) a_k, a_k = w_k x_1 x x_2 the load point's current area vector.
-  Vec3 shell_side_force(std::span<const double> dp) const;
+  std::span<const double> pressure_rise() const { return std::span(current_).first(point_pressure_.size()); }
+  /// The exchanged loads of t_i: the pressure rise at the n load points, then (a no-slip
+  /// wet wall of a viscous flow) the shear -tau n of each, 3 components per point.
+  std::span<const double> loads() const { return current_; }
+  /// Resultant of the loads on the shell: sum_k (-sign_k dp_k) a_k, a_k = w_k x_1 x x_2 the
+  /// load point's current area vector, plus (loads of size 4n) sum_k t_k |a_k| with the shear
+  /// t_k (per current area, as the fluid gives it).
+  Vec3 shell_side_force(std::span<const double> loads) const;
   const PartitionedOptions& options() const { return options_; }
 
   /// Checkpoint of the coupled state (core/archive.h): the shell solver (with its kept
@@ -79,6 +83,10 @@ class PartitionedSolver {
 
  private:
   void apply_loads(std::span<const double> loads);
+  /// The flow's loads at the current time (pressure rise, and shear when there is) into `loads`.
+  void collect_loads(std::span<double> loads);
+  /// |x_1 x x_2| / |X_1 x X_2| at load point k: current over reference area.
+  double area_ratio(std::size_t k) const;
   /// The first guess of the loads of the step's end: the predictor's.
   void predict();
   /// Back to the start of the step after a failed iteration, then throws SolverError.
@@ -90,6 +98,7 @@ class PartitionedSolver {
   ShellStepMotion& motion_;
   PartitionedOptions options_;
   std::vector<double> current_, previous_, next_, guess_, point_pressure_;
+  std::vector<Vec3> point_shear_;  ///< empty without shear
   bool has_previous_ = false;
   LoadPointBasis basis_;  ///< for the force balance in the current configuration
   CouplingIterations iterations_;

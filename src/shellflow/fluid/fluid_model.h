@@ -10,6 +10,7 @@
 #include <array>
 #include <functional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -165,6 +166,20 @@ class FluidModel {
   /// Nodal load q = p n - tau n on the group: nodal p, nodal tau the volume-weighted mean
   /// of the adjacent elements' stresses, n the area-weighted normal of the group's faces.
   WallTraction wall_traction(std::string_view group) const;
+  /// Viscous traction -tau n (force per area of the gas on the structure, n out of the
+  /// fluid) at the nodes of the no-slip group `group`, in mesh().group(group).nodes order,
+  /// into `out` (that size; InputError otherwise). The consistent boundary flux: the
+  /// reaction of the viscous residual at each node, F_a = -sum_e V_e tau_e grad N_a over the
+  /// elements around it, divided by the node's share of the wall (integral of N_a dA over
+  /// the group's faces and the coplanar no-slip faces next to them: the same wall going on).
+  /// Exact for a linear profile, second order for a curved one (the one-sided gradient of the
+  /// wall elements is first order: fluid.md); the volume term N_a div(tau) is left out, an
+  /// error (h/2)|rho a_wall + grad p| per area. Where another boundary meets the wall at an
+  /// angle (its flux would be in the reaction), the wall elements' one-sided stress instead;
+  /// on a symmetry plane the component across it is removed (zero by symmetry). Zero for
+  /// Euler. One element flux per element touching the group (the element and face lists
+  /// are built on the first call).
+  void wall_shear(std::string_view group, std::span<Vec3> out);
   /// Artificial viscosity nu (m^2/s, paper eq. 28) of the current state at the nodes: the
   /// volume-weighted mean of the adjacent elements' values (for output).
   std::vector<double> nodal_artificial_viscosity();
@@ -185,8 +200,24 @@ class FluidModel {
   void check_positivity(const FluidState& u, double t) const;
   ElementLoop loop() const { return {tets_, colours_.block_offsets, colours_.colour_offsets}; }
 
+  /// What wall_shear needs of a group (topology only): the elements with a node in it and the
+  /// no-slip faces with a node in it, each with its nodes' places in the group (-1: not in it).
+  struct WallShearStencil {
+    std::string group;
+    std::vector<std::pair<Index, std::array<Index, 4>>> elements;
+    std::vector<std::pair<BoundaryFace, std::array<Index, 3>>> own_faces;  ///< the group's
+    /// The group's faces and the coplanar no-slip faces next to them (the same wall going on).
+    std::vector<std::pair<BoundaryFace, std::array<Index, 3>>> area_faces;
+    std::vector<std::pair<BoundaryFace, std::array<Index, 3>>> symmetry_faces;
+    std::vector<char> corner;  ///< per node: another boundary meets the wall at an angle there
+  };
+  /// A no-slip face whose normal is within about 20 degrees of the wall's own continues it.
+  static constexpr double kCoplanarWall = 0.94;
+  const WallShearStencil& shear_stencil(std::string_view group);
+
   mesh::Mesh mesh_;
   FluidOptions options_;
+  std::vector<WallShearStencil> shear_stencils_;
   std::vector<Index> tets_;  // connectivity in colour order
   CellColouring colours_;
   std::vector<Vec3> x_, w_, w_next_;

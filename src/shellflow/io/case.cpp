@@ -83,7 +83,7 @@ Case read_case(const YamlNode& root) {
                "'motion' section (space mesh), not both; remove one");
     }
     for (const FluidBoundary& b : c.fluid->boundaries) {
-      if (b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity != Vec3::Zero()) {
+      if (b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity) {
         throw_at(b.where,
                  "on a moving mesh a no-slip wall moves with the mesh; remove its "
                  "'velocity' or the 'mesh_motion'");

@@ -165,6 +165,11 @@ void check_coupled_case(const Case& c) {
       throw_at(c.fluid->mesh_motion->where,
                "in a coupled run the shell moves the fluid mesh; remove "
                "'fluid.mesh_motion'");
+    for (const FluidBoundary& b : c.fluid->boundaries)
+      if (b.group == k.fluid_group && b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity)
+        throw_at(b.where, fmt::format("the wet wall '{}' moves with the shell (u = the shell's velocity, paper eq. "
+                                      "29); remove its 'velocity'",
+                                      k.fluid_group));
   } else if (k.substeps == 0) {
     throw_at(k.where,
              "without a flow there is no stable step to choose the sub-steps from: give "

@@ -125,7 +125,7 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
       }
     }
     if (b.type == FluidBoundaryType::no_slip_wall) {
-      b.wall_velocity = item.vec3("velocity", Vec3::Zero());
+      if (item.has("velocity")) b.wall_velocity = read_space_time_vector(item, "velocity");
       b.wall_temperature = item.maybe<double>("temperature");
       if (b.wall_temperature && !(*b.wall_temperature > 0.0)) {
         item.fail("temperature", fmt::format("must be > 0 K, got {}", *b.wall_temperature));

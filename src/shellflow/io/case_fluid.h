@@ -87,7 +87,9 @@ struct FluidBoundary {
   FluidBoundaryType type = FluidBoundaryType::slip_wall;
   /// Inflow / far-field state; absent: the free stream.
   std::optional<SpaceTimeState> state;
-  Vec3 wall_velocity = Vec3::Zero();       ///< no-slip walls [m/s] (on a moving mesh: the mesh's)
+  /// No-slip walls [m/s], numbers or expressions of x, y, z, t (a profile at an inlet);
+  /// absent: a fixed wall (on a moving mesh: the mesh's velocity).
+  std::optional<std::array<SpaceTimeScalar, 3>> wall_velocity;
   std::optional<double> wall_temperature;  ///< no-slip walls [K]; absent: adiabatic
   SourceLocation where;                    ///< the list item `fluid.boundaries[i]`
 };

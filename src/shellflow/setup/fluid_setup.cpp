@@ -83,8 +83,10 @@ std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection
         bc.wall_velocity = [mesh_velocity](Index node, const Vec3&, double) {
           return (*mesh_velocity)[static_cast<std::size_t>(node)];
         };
-      } else if (b.wall_velocity != Vec3::Zero()) {
-        bc.wall_velocity = [v = b.wall_velocity](Index, const Vec3&, double) { return v; };
+      } else if (b.wall_velocity) {
+        bc.wall_velocity = [v = &*b.wall_velocity](Index, const Vec3& x, double t) {
+          return Vec3((*v)[0](x, t), (*v)[1](x, t), (*v)[2](x, t));
+        };
       }
     }
     if (mesh_velocity && b.type == io::FluidBoundaryType::slip_wall) {
