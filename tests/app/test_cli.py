@@ -228,6 +228,25 @@ class CoupledRuns(unittest.TestCase):
         self.assertTrue(os.path.getsize(os.path.join(out, "flutter_growth.png")) > 1000)
         self.assertTrue(os.path.exists(os.path.join(out, "response.json")))  # every coupled run
 
+    def test_viscous_flutter_coarse_passes_the_shear_to_the_shell(self):
+        # cases/viscous_coupling/flutter_viscous_coarse.yaml (the CI variant, 10 ms): no-slip
+        # panel and plate in viscous air; the panel takes the gas's shear with its pressure.
+        out = os.path.join(self.tmp.name, "out")
+        r = shellflow("run", os.path.join(ROOT, "cases", "viscous_coupling", "flutter_viscous_coarse.yaml"), "-o", out,
+                      "--no-plot")
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("coupled run: 100 shell steps", r.stderr)
+        with open(os.path.join(out, "coupling.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 100)
+        # Along the flow (x) the force on the flat panel is the shear alone: the gas drags the
+        # panel downstream, and the shell gets what the fluid gives (the force balance).
+        last = rows[-1]
+        shell_x, fluid_x = float(last["shell_force_x"]), float(last["fluid_force_x"])
+        self.assertGreater(fluid_x, 0.0)
+        self.assertLess(abs(shell_x - fluid_x), 0.05 * fluid_x)
+        self.assertLess(max(float(row["force_balance"]) for row in rows[10:]), 1e-3)
+
     def test_strong_coupling_needs_the_coupling_iterations(self):
         # cases/strong_coupling: rho c dt / (rho_s h) = 2 (docs/coupling.md, "Implicit coupling").
         case = os.path.join(ROOT, "cases", "strong_coupling", "thin_sheet_dense_gas.yaml")
@@ -397,7 +416,9 @@ class CoupledRuns(unittest.TestCase):
         for folder, names in (("panel_flutter", ("clamped_clamped", "clamped_sliding", "clamped_clamped_piston",
                                                  "clamped_sliding_piston", "clamped_sliding_piston_monolithic",
                                                  "clamped_clamped_coarse")),
-                              ("mesh_motion_tests", ("up_5000", "down_5000", "antisymmetric_15000"))):
+                              ("mesh_motion_tests", ("up_5000", "down_5000", "antisymmetric_15000")),
+                              ("viscous_coupling", ("couette_strip", "boundary_layer_panel", "flutter_viscous",
+                                                    "flutter_viscous_coarse"))):
             for name in names:
                 r = shellflow("check", os.path.join(ROOT, "cases", folder, name + ".yaml"))
                 self.assertEqual(r.returncode, 0, name + ": " + r.stderr)

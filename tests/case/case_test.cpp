@@ -773,6 +773,16 @@ TEST(ReadCase, FluidViscosityAndNoSlipWalls) {
   EXPECT_DOUBLE_EQ(profile[2](x, 2.0), 2.0);
   EXPECT_EQ(c.fluid->boundaries[0].wall_temperature, 300.0);
   EXPECT_FALSE(c.fluid->boundaries[1].wall_temperature.has_value());
+  const Case power = read_case_string(
+      "name: t\n"
+      "meshes: { fluid: { geo: fluid_slab.geo } }\n"
+      "fluid:\n"
+      "  gas: { viscosity: { law: power, exponent: 1, mu_ref: 1.789e-5, t_ref: 288.15 } }\n"
+      "  free_stream: { density: 1, pressure: 1, mach: 0 }\n",
+      data("inline.yaml"));
+  EXPECT_EQ(power.fluid->gas.viscosity.law, ViscosityLaw::power);
+  EXPECT_EQ(power.fluid->gas.viscosity.exponent, 1.0);
+  EXPECT_EQ(power.fluid->gas.viscosity.t_ref, 288.15);
 }
 
 TEST(ReadCaseErrors, FluidViscosityAndNoSlipWalls) {
@@ -784,7 +794,7 @@ TEST(ReadCaseErrors, FluidViscosityAndNoSlipWalls) {
                               "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"),
             at("inline.yaml", 4,
                "fluid.gas.viscosity.law: unknown value 'sutherlnd'; did you "
-               "mean 'sutherland'? (one of: none, constant, sutherland)"));
+               "mean 'sutherland'? (one of: none, constant, sutherland, power)"));
   EXPECT_EQ(text_error(head + "  free_stream: { density: 1, pressure: 1, mach: 0 }\n"
                               "  boundaries: [ { group: inflow, type: no_slip_wall, temperature: -1 } ]\n"),
             at("inline.yaml", 5, "fluid.boundaries[0].temperature: must be > 0 K, got -1"));

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <map>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -134,6 +135,97 @@ TEST(ViscousCoupling, ASlipWetWallOfAViscousFlowPassesNoShear) {
   EXPECT_EQ(s.driver->loads().size(), s.shell->load_points().size());  // pressure only
   const CouplingStepReport r = s.driver->step(c.time->step);
   EXPECT_EQ(r.shell_force.x(), 0.0);
+}
+
+}  // namespace
+}  // namespace shellflow::coupling
+
+namespace shellflow::coupling {
+namespace {
+
+/// The laminar Mach 2 boundary layer of boundary_layer_panel.yaml, its flow converged with
+/// local time steps over the panel held flat (the steady state of the coupled run, reached in
+/// a few thousand iterations instead of some 10^5 global steps).
+struct BoundaryLayer {
+  double cf_mid = 0.0, cf_exact_mid = 0.0;
+  double fluid_force = 0.0, shell_force = 0.0, exact_force = 0.0;
+  int iterations = 0;
+  double rate = 0.0;
+};
+
+BoundaryLayer boundary_layer(double size_factor, int iterations) {
+  std::string text = read_text(coupling_test::cases_dir / "viscous_coupling" / "boundary_layer_panel.yaml");
+  if (size_factor != 1.0)
+    text = replaced(text, "fluid: { geo: boundary_layer_slab.geo, order: 1 }",
+                    fmt::format("fluid: {{ geo: boundary_layer_slab.geo, order: 1, size_factor: {} }}", size_factor));
+  const io::Case c =
+      io::read_case_string(text, coupling_test::cases_dir / "viscous_coupling" / "boundary_layer_panel.yaml");
+  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
+  setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
+  fluid::FluidModel& flow = *s.flow->flow();
+  BoundaryLayer r;
+  for (; r.iterations < iterations; ++r.iterations) flow.step_local(0.5);
+  r.rate = flow.density_rate();
+  const double gamma = 1.4, rho = 0.010514, p = 870.0, mach = 2.0;
+  const double speed = mach * std::sqrt(gamma * p / rho);
+  const double temperature = p / (rho * 287.05);
+  const double mu = 1.789e-5 * temperature / 288.15;
+  const double q = 0.5 * rho * speed * speed, re1 = rho * speed / mu;
+  // Skin friction at mid-panel (x = 0.5 m): linear between the wall nodes on either side
+  // (each the mean over the nodes across the slab).
+  const auto& nodes = s.fluid_mesh->group("panel").nodes;
+  std::vector<Vec3> shear(nodes.size());
+  flow.wall_shear("panel", shear);
+  std::map<long, std::pair<double, int>> by_x;  // x in micrometres -> (sum of tau_x, count)
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    auto& [sum, count] = by_x[std::lround(flow.positions()[std::size_t(nodes[k])].x() * 1e6)];
+    sum += shear[k].x();
+    ++count;
+  }
+  const auto above = by_x.lower_bound(500000);
+  const auto below = std::prev(above);
+  const double x0 = below->first * 1e-6, x1 = above->first * 1e-6;
+  const double t0 = below->second.first / below->second.second, t1 = above->second.first / above->second.second;
+  r.cf_mid = (t0 + (t1 - t0) * (0.5 - x0) / (x1 - x0)) / q;
+  r.cf_exact_mid = 0.664 / std::sqrt(re1 * 0.5);
+  r.exact_force = 0.664 * q * 0.025 * 2 / std::sqrt(re1) * (std::sqrt(0.75) - std::sqrt(0.25));
+  // One exchange: the loads at the shell's load points, and both sides' resultants.
+  std::vector<double> loads(4 * s.shell->load_points().size());
+  const std::size_t n = s.shell->load_points().size();
+  s.aerodynamics->pressure_rise(s.solver->displacement(), s.solver->velocity(), std::span(loads).first(n));
+  std::vector<Vec3> point_shear(n);
+  s.aerodynamics->shear(point_shear);
+  for (std::size_t k = 0; k < n; ++k)
+    for (std::size_t d = 0; d < 3; ++d) loads[n + 3 * k + d] = point_shear[k][Eigen::Index(d)];
+  r.shell_force = s.driver->shell_side_force(loads).x();
+  r.fluid_force = s.aerodynamics->fluid_side_force()->x();
+  std::printf(
+      "Boundary layer (size factor %.1f): %d local-step iterations (d(rho)/dt %.2e); cf at mid-panel %.4e "
+      "(Blasius-Chapman-Rubesin %.4e, %+.2f %%); shear force on the panel: fluid %.7f N, shell %.7f N, integral of "
+      "the flat-plate cf %.5f N (%+.2f %%)\n",
+      size_factor, r.iterations, r.rate, r.cf_mid, r.cf_exact_mid, 100 * (r.cf_mid / r.cf_exact_mid - 1), r.fluid_force,
+      r.shell_force, r.exact_force, 100 * (r.shell_force / r.exact_force - 1));
+  return r;
+}
+
+TEST(ViscousCoupling, LaminarBoundaryLayerSkinFrictionAndShearOnTheShellMatchTheFlatPlateSolution) {
+  // The case's mesh (first cell 0.21 mm, ~15 cells in the layer at mid-panel); tau at
+  // mid-panel changes by < 1e-5 after 22 000 iterations.
+  const BoundaryLayer r = boundary_layer(1.0, 24000);
+  EXPECT_NEAR(r.cf_mid / r.cf_exact_mid, 1.0, 0.05);  // measured -3.3 %
+  EXPECT_NEAR(r.shell_force / r.exact_force, 1.0, 0.05);
+  // The shear passes whole, to the load points' quadrature of the piecewise-linear shear over
+  // shell elements that do not conform to the fluid faces (measured 1e-6).
+  EXPECT_NEAR(r.shell_force / r.fluid_force, 1.0, 1e-5);
+}
+
+TEST(ViscousCoupling, LaminarBoundaryLayerOnTheCoarseVariantIsFirstOrderFartherOff) {
+  // size_factor 2: half the cells each way, the first cell twice as thick: the one-sided
+  // truncation of the layer's resolution doubles (the error is first order in the cell).
+  const BoundaryLayer r = boundary_layer(2.0, 16000);
+  EXPECT_NEAR(r.cf_mid / r.cf_exact_mid, 1.0, 0.10);      // measured -7.5 %
+  EXPECT_NEAR(r.shell_force / r.exact_force, 1.0, 0.10);  // measured -7.6 %
+  EXPECT_NEAR(r.shell_force / r.fluid_force, 1.0, 1e-5);  // measured 1.8e-6
 }
 
 }  // namespace

@@ -560,6 +560,21 @@ TEST(Sutherland, AirViscosityMatchesTheTabulatedValues) {
   EXPECT_EQ(euler.dynamic(300.0), 0.0);
 }
 
+TEST(PowerLaw, ViscosityIsMuRefTimesTheTemperatureRatioToTheExponent) {
+  Viscosity v;
+  v.law = ViscosityLaw::power;
+  v.mu_ref = 1.789e-5;
+  v.t_ref = 288.15;
+  v.exponent = 1.0;  // mu ~ T: rho mu constant at constant pressure (Chapman-Rubesin C = 1)
+  EXPECT_DOUBLE_EQ(v.dynamic(288.15), 1.789e-5);
+  EXPECT_DOUBLE_EQ(v.dynamic(2 * 288.15), 2 * 1.789e-5);
+  v.exponent = 0.76;
+  EXPECT_NEAR(v.dynamic(4 * 288.15) / 1.789e-5, std::pow(4.0, 0.76), 1e-14);
+  check_viscosity(IdealGas(1.4, 287.05, v));
+  v.exponent = 3.0;
+  EXPECT_THROW(check_viscosity(IdealGas(1.4, 287.05, v)), InputError);
+}
+
 namespace {
 
 const double angle = 10.0 * pi / 180.0;

@@ -12,6 +12,7 @@ enum class ViscosityLaw {
   none,        ///< Euler: no viscous or conduction terms (the viscous pass is skipped)
   constant,    ///< mu = mu_ref
   sutherland,  ///< mu = mu_ref (T / T_ref)^{3/2} (T_ref + S) / (T + S)
+  power,       ///< mu = mu_ref (T / T_ref)^omega (omega = 1: Chapman-Rubesin C = rho mu / (rho_e mu_e) = 1)
 };
 const char* to_string(ViscosityLaw law);
 
@@ -20,6 +21,7 @@ struct Viscosity {
   double mu_ref = 1.716e-5;   ///< Pa s: the constant mu, or Sutherland's mu at t_ref (air)
   double t_ref = 273.15;      ///< K, Sutherland reference temperature (air)
   double sutherland = 110.4;  ///< K, Sutherland constant S (air)
+  double exponent = 0.76;     ///< omega of the power law (air near 300 K: about 0.76)
   double prandtl = 0.72;
 
   bool viscous() const { return law != ViscosityLaw::none; }
@@ -34,6 +36,8 @@ struct Viscosity {
         const double r = temperature / t_ref;
         return mu_ref * r * std::sqrt(r) * (t_ref + sutherland) / (temperature + sutherland);
       }
+      case ViscosityLaw::power:
+        return exponent == 1.0 ? mu_ref * (temperature / t_ref) : mu_ref * std::pow(temperature / t_ref, exponent);
     }
     return 0.0;
   }

@@ -18,6 +18,8 @@ const char* to_string(ViscosityLaw law) {
       return "constant";
     case ViscosityLaw::sutherland:
       return "sutherland";
+    case ViscosityLaw::power:
+      return "power";
   }
   return "?";
 }
@@ -34,8 +36,11 @@ void check_viscosity(const IdealGas& gas) {
   };
   if (!(v.mu_ref > 0.0) || !std::isfinite(v.mu_ref)) fail("mu_ref", v.mu_ref, "positive");
   if (!(v.prandtl > 0.0) || !std::isfinite(v.prandtl)) fail("prandtl", v.prandtl, "positive");
-  if (v.law == ViscosityLaw::sutherland) {
+  if (v.law == ViscosityLaw::sutherland || v.law == ViscosityLaw::power)
     if (!(v.t_ref > 0.0) || !std::isfinite(v.t_ref)) fail("t_ref", v.t_ref, "positive");
+  if (v.law == ViscosityLaw::power && !(v.exponent >= 0.0 && v.exponent <= 2.0))
+    fail("exponent", v.exponent, "in [0, 2]");
+  if (v.law == ViscosityLaw::sutherland) {
     if (!(v.sutherland >= 0.0) || !std::isfinite(v.sutherland)) fail("sutherland", v.sutherland, "non-negative");
   }
 }

@@ -82,12 +82,17 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
     fluid.gas.gas_constant = gas->optional<double>("gas_constant", 287.05, Range::positive(), "J/(kg K)");
     if (auto v = gas->optional_child("viscosity")) {
       Viscosity& mu = fluid.gas.viscosity;
-      const std::string law = v->choice("law", {"none", "constant", "sutherland"});
+      const std::string law = v->choice("law", {"none", "constant", "sutherland", "power"});
       mu.law = law == "constant"     ? ViscosityLaw::constant
                : law == "sutherland" ? ViscosityLaw::sutherland
+               : law == "power"      ? ViscosityLaw::power
                                      : ViscosityLaw::none;
       mu.mu_ref = v->optional<double>("mu_ref", mu.mu_ref, Range::positive(), "Pa s");
       mu.prandtl = v->optional<double>("prandtl", mu.prandtl, Range::positive());
+      if (mu.law == ViscosityLaw::power) {
+        mu.t_ref = v->optional<double>("t_ref", mu.t_ref, Range::positive(), "K");
+        mu.exponent = v->optional<double>("exponent", mu.exponent, Range::in_range(0.0, 2.0));
+      }
       if (mu.law == ViscosityLaw::sutherland) {
         mu.t_ref = v->optional<double>("t_ref", mu.t_ref, Range::positive(), "K");
         mu.sutherland = v->optional<double>("sutherland", mu.sutherland, Range::non_negative(), "K");

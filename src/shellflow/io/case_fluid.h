@@ -14,7 +14,7 @@
 
 namespace shellflow::io {
 
-enum class ViscosityLaw { none, constant, sutherland };
+enum class ViscosityLaw { none, constant, sutherland, power };
 
 /// Dynamic viscosity mu(T) and heat conduction k = mu c_p / Pr (Navier–Stokes runs).
 struct Viscosity {
@@ -22,6 +22,7 @@ struct Viscosity {
   double mu_ref = 1.716e-5;               ///< [Pa s] mu (constant) or mu at t_ref (Sutherland)
   double t_ref = 273.15;                  ///< [K]
   double sutherland = 110.4;              ///< Sutherland's constant S [K]
+  double exponent = 0.76;                 ///< omega of the power law mu_ref (T / t_ref)^omega
   double prandtl = 0.72;
 };
 

@@ -30,10 +30,12 @@ fluid::Viscosity viscosity_of(const io::Viscosity& v) {
   fluid::Viscosity mu;
   mu.law = v.law == io::ViscosityLaw::constant     ? fluid::ViscosityLaw::constant
            : v.law == io::ViscosityLaw::sutherland ? fluid::ViscosityLaw::sutherland
+           : v.law == io::ViscosityLaw::power      ? fluid::ViscosityLaw::power
                                                    : fluid::ViscosityLaw::none;
   mu.mu_ref = v.mu_ref;
   mu.t_ref = v.t_ref;
   mu.sutherland = v.sutherland;
+  mu.exponent = v.exponent;
   mu.prandtl = v.prandtl;
   return mu;
 }
