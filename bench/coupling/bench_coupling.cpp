@@ -10,7 +10,10 @@
 //                            meshes: into the archive, to disk (fsync), back;
 //   BM_FlutterBasis          the linear flutter analysis' modal basis (24 in-vacuo modes +
 //                            projected piston-theory matrices) of the reference strip;
-//   BM_FlutterSweep50        its sweep of 50 lambda values + the bisection of the boundary.
+//   BM_FlutterSweep50        its sweep of 50 lambda values + the bisection of the boundary;
+//   BM_LoadTransfer/0|1      one exchange of the loads, pressure only / pressure and shear
+//                            (clamped-sliding panel, inviscid / viscous, paper meshes);
+//   BM_FlowSubstep/0|1       one fluid sub-step of those runs, Euler / Navier-Stokes.
 // Median of repetitions: --benchmark_repetitions=5 --benchmark_report_aggregates_only=true.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
@@ -32,8 +35,12 @@ struct System {
   io::Case c;
   io::CaseMeshes meshes;
   setup::CoupledSystem s;
-  explicit System(const char* file)
-      : c(io::read_case(cases / file)),
+  explicit System(io::Case from)
+      : c(std::move(from)), meshes(io::load_case_meshes(c, std::nullopt)), s(setup::build_coupled_system(c, meshes)) {
+    for (int i = 0; i < 50; ++i) s.driver->step(c.time->step);
+  }
+  explicit System(const char* file, const char* folder = "panel_flutter")
+      : c(io::read_case(cases.parent_path() / folder / file)),
         meshes(io::load_case_meshes(c, std::nullopt)),
         s(setup::build_coupled_system(c, meshes)) {
     // Past the start-up, with the panel moving.
@@ -66,13 +73,13 @@ void BM_SpaceMeshUpdate(benchmark::State& state) {
 }
 BENCHMARK(BM_SpaceMeshUpdate)->Unit(benchmark::kMicrosecond);
 
-void BM_FlowStepMoving(benchmark::State& state) {
-  System& sys = euler();
+/// One flow step of `sys` on a moving mesh (w != 0), from the same state every time.
+void time_flow_step(benchmark::State& state, System& sys) {
   fluid::FluidModel& flow = *sys.s.flow->flow();
   const fluid::FluidSnapshot start = flow.snapshot();
   const double dt = 0.5 * flow.stable_dt(0.5);
   std::vector<Vec3> x(flow.positions().begin(), flow.positions().end());
-  for (auto& p : x) p.y() += 1e-9 * p.x();  // a moving mesh (w != 0)
+  for (auto& p : x) p.y() += 1e-9 * p.x();
   for (auto _ : state) {
     state.PauseTiming();
     flow.restore(start);
@@ -84,6 +91,8 @@ void BM_FlowStepMoving(benchmark::State& state) {
   state.counters["Mtet/s"] = benchmark::Counter(
       double(sys.s.fluid_mesh->num_cells()) * double(state.iterations()) / 1e6, benchmark::Counter::kIsRate);
 }
+
+void BM_FlowStepMoving(benchmark::State& state) { time_flow_step(state, euler()); }
 BENCHMARK(BM_FlowStepMoving)->Unit(benchmark::kMillisecond);
 
 void BM_CoupledShellStepEuler(benchmark::State& state) {
@@ -93,6 +102,41 @@ void BM_CoupledShellStepEuler(benchmark::State& state) {
   state.counters["substeps"] = substeps;
 }
 BENCHMARK(BM_CoupledShellStepEuler)->Unit(benchmark::kMillisecond);
+
+// The clamped-sliding panel in the same stream, inviscid (slip walls, pressure only) and
+// viscous (no-slip walls: pressure and shear), paper meshes, q_dif 1.0 for both as in
+// bench/coupling/viscous_flutter.py.
+System& sliding(bool viscous) {
+  static System inviscid = [] {
+    io::Case c = io::read_case(cases / "clamped_sliding.yaml");
+    c.fluid->analysis->q_dif = 1.0;
+    c.fluid->analysis->cfl = 0.5;
+    return System(std::move(c));
+  }();
+  static System with_shear("flutter_viscous.yaml", "viscous_coupling");
+  return viscous ? with_shear : inviscid;
+}
+
+// One exchange of the loads: the pressure rise at the shell's load points, and with a no-slip
+// wet wall the shear (the viscous residual's reaction at the wet nodes, interpolated).
+void BM_LoadTransfer(benchmark::State& state) {
+  System& sys = sliding(state.range(0) != 0);
+  const std::size_t n = sys.s.shell->load_points().size();
+  std::vector<double> dp(n);
+  std::vector<Vec3> shear(n);
+  for (auto _ : state) {
+    sys.s.aerodynamics->pressure_rise(sys.s.solver->displacement(), sys.s.solver->velocity(), dp);
+    if (sys.s.aerodynamics->has_shear()) sys.s.aerodynamics->shear(shear);
+    benchmark::DoNotOptimize(dp.data());
+    benchmark::DoNotOptimize(shear.data());
+  }
+  state.counters["load_points"] = double(n);
+}
+BENCHMARK(BM_LoadTransfer)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
+// One fluid sub-step of the coupled run on the moved mesh: Euler against Navier-Stokes.
+void BM_FlowSubstep(benchmark::State& state) { time_flow_step(state, sliding(state.range(0) != 0)); }
+BENCHMARK(BM_FlowSubstep)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 // A checkpoint of the default flutter case (docs/restart.md): the coupled state into the
 // archive, the file written (tmp + fsync + rename), read and verified, and restored.

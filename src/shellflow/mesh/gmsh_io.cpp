@@ -273,9 +273,11 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
   GmshSession session(options.verbose);
   Mesh mesh;
   with_gmsh(geometry, "mesh the geometry", [&] {
-    // Set before the script runs, so that a structured .geo can scale its cell counts by it.
+    // Set before the script runs, so that a structured .geo can scale its cell counts by it,
+    // and again after, so that the case's value wins over one the script sets.
     gmsh::option::setNumber("Mesh.MeshSizeFactor", options.size_factor);
     open_in_gmsh(geometry);
+    gmsh::option::setNumber("Mesh.MeshSizeFactor", options.size_factor);
     // Complete elements (tet20 has its 4 face nodes), high-order nodes on the geometry.
     gmsh::option::setNumber("Mesh.SecondOrderIncomplete", 0);
     gmsh::model::mesh::generate(options.dim > 0 ? options.dim : gmsh::model::getDimension());
