@@ -303,6 +303,14 @@ CATALOGUE = [
     Entry("nan_shell_load_at_t0", base=STRIP_DYNAMIC, command="run",
           sets=["time.end=0.002", 'shell.analysis.load_function={type: expression, value: "sqrt(-1)"}'],
           expect=["{case}:", "shell.analysis.load_function: is NaN at t = 0 s"], fix="must stay finite", run_output=0),
+    # ---- issue 25: the coupled no-slip wall moves with the shell ----
+    Entry("velocity_on_the_coupled_wet_wall", base="viscous_coupling/couette_strip.yaml",
+          edit=("- { group: strip, type: no_slip_wall, temperature: 300.3 }",
+                "- { group: strip, type: no_slip_wall, velocity: [1, 0, 0], temperature: 300.3 }"),
+          expect=["{case}:", "the wet wall 'strip' moves with the shell"], fix="remove its 'velocity'"),
+    Entry("power_law_exponent_out_of_range", base="viscous_coupling/boundary_layer_panel.yaml",
+          edit=("law: power, exponent: 1.0,", "law: power, exponent: 5.0,"),
+          expect=["{case}:{line}:", "fluid.gas.viscosity.exponent"], fix="2"),
     Entry("infinite_initial_density", base=SOD, command="run", edit=(
           "    riemann:\n      normal: [1, 0, 0]\n      position: 0.5\n"
           "      left: { density: 1.0, pressure: 1.0 }\n      right: { density: 0.125, pressure: 0.1 }",

@@ -32,6 +32,8 @@ RUNS = {
     # Coupling iterations: the restart must carry the acceleration's history (IQN-ILS columns
     # of past steps, Aitken's factor) to stay bit-exact.
     "iqn_ils_coupled": ("strong_coupling/thin_sheet_dense_gas.yaml", ["time.end=0.002", "output.every=3"], 9),
+    # The shear of a no-slip wet wall is part of the exchanged loads (the predictor's history).
+    "viscous_coupled": ("viscous_coupling/flutter_viscous_coarse.yaml", ["time.end=0.002", "output.every=3"], 7),
     "aitken_coupled": ("panel_flutter/clamped_clamped_piston.yaml",
                        ["time.end=0.005", "output.every=7", "coupling.iterations=20", "coupling.tolerance=1e-9",
                         "coupling.acceleration=aitken"], 21),
@@ -180,6 +182,9 @@ class RestartRuns(unittest.TestCase):
     def test_implicit_coupling_iqn_ils(self):
         for threads in (1, 2):
             self.straight_and_in_pieces("iqn_ils_coupled", threads)
+
+    def test_viscous_coupled_flutter(self):
+        self.straight_and_in_pieces("viscous_coupled", 1)
 
     def test_implicit_coupling_aitken(self):
         self.straight_and_in_pieces("aitken_coupled", 1)
