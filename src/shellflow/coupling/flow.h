@@ -47,7 +47,7 @@ class FlowModel final : public AerodynamicModel {
   std::span<const double> sign() const override { return loads_.sign; }
   /// A no-slip wet wall of a viscous flow passes the shear.
   bool has_shear() const override { return has_shear_; }
-  /// The wall elements' viscous traction (FluidModel::wall_shear) at the wet nodes,
+  /// The wall shear at the wet nodes (FluidModel::wall_shear: the consistent boundary flux),
   /// interpolated to the load points with the pressure's weights.
   void shear(std::span<Vec3> out) override;
   /// Pressure (minus the reference) and shear on the wet faces, linear on each face; the
