@@ -48,7 +48,15 @@ PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSol
   previous_.assign(size, 0.0);  // the three rotate every step: all of one size
   guess_.assign(size, 0.0);
   point_pressure_.assign(n, 0.0);
-  if (flow.has_shear()) point_shear_.assign(n, Vec3::Zero());
+  if (flow.has_shear()) {
+    point_shear_.assign(n, Vec3::Zero());
+    reference_jacobian_.resize(n);
+    Vec3 x1, x2;
+    for (std::size_t k = 0; k < n; ++k) {
+      basis_.tangents(model, k, nullptr, x1, x2);
+      reference_jacobian_[k] = x1.cross(x2).norm();
+    }
+  }
   if (flow.sign().size() != n)
     throw Error(fmt::format("coupling: the aerodynamic model has {} load points, the shell {}", flow.sign().size(), n));
   motion_.set_state(shell.time(), shell.displacement(), shell.velocity());
@@ -92,10 +100,9 @@ void PartitionedSolver::apply_loads(std::span<const double> loads) {
 }
 
 double PartitionedSolver::area_ratio(std::size_t k) const {
-  Vec3 x1, x2, r1, r2;
+  Vec3 x1, x2;
   basis_.tangents(model_, k, &shell_.displacement(), x1, x2);
-  basis_.tangents(model_, k, nullptr, r1, r2);
-  return x1.cross(x2).norm() / r1.cross(r2).norm();
+  return x1.cross(x2).norm() / reference_jacobian_[k];
 }
 
 Vec3 PartitionedSolver::shell_side_force(std::span<const double> loads) const {

@@ -98,7 +98,8 @@ class PartitionedSolver {
   ShellStepMotion& motion_;
   PartitionedOptions options_;
   std::vector<double> current_, previous_, next_, guess_, point_pressure_;
-  std::vector<Vec3> point_shear_;  ///< empty without shear
+  std::vector<Vec3> point_shear_;           ///< empty without shear
+  std::vector<double> reference_jacobian_;  ///< |X_1 x X_2| per load point (with shear only)
   bool has_previous_ = false;
   LoadPointBasis basis_;  ///< for the force balance in the current configuration
   CouplingIterations iterations_;

@@ -106,19 +106,22 @@ std::array<Index, 3> sorted_key(Index a, Index b, Index c) {
   return k;
 }
 
-/// Faces of the groups of the conditions of kind `kind` (sorted node triples).
-std::unordered_set<std::array<Index, 3>, FaceKeyHash> faces_of(const mesh::Mesh& mesh,
-                                                               const std::vector<BoundaryCondition>& conditions,
-                                                               BoundaryKind kind) {
-  std::unordered_set<std::array<Index, 3>, FaceKeyHash> out;
-  for (const BoundaryCondition& bc : conditions) {
-    if (bc.kind != kind) continue;
-    const auto& g = mesh.group(bc.group);
-    for (Index f = 0; f < g.elements.size(); ++f) {
-      const auto n = g.elements.element(f);
-      out.insert(sorted_key(n[0], n[1], n[2]));
-    }
+using FaceSet = std::unordered_set<std::array<Index, 3>, FaceKeyHash>;
+
+/// Adds the faces of the mesh group `group` (sorted node triples) to `out`.
+void add_faces(const mesh::Mesh& mesh, std::string_view group, FaceSet& out) {
+  const auto& g = mesh.group(group);
+  for (Index f = 0; f < g.elements.size(); ++f) {
+    const auto n = g.elements.element(f);
+    out.insert(sorted_key(n[0], n[1], n[2]));
   }
+}
+
+/// The faces of the groups of the conditions of kind `kind`.
+FaceSet faces_of(const mesh::Mesh& mesh, const std::vector<BoundaryCondition>& conditions, BoundaryKind kind) {
+  FaceSet out;
+  for (const BoundaryCondition& bc : conditions)
+    if (bc.kind == kind) add_faces(mesh, bc.group, out);
   return out;
 }
 
@@ -154,8 +157,8 @@ const FluidModel::WallShearStencil& FluidModel::shear_stencil(std::string_view g
       entry.second = BoundaryFace{{a, b, c}, Index(e), t[k]};
     }
   }
-  const auto own =
-      faces_of(mesh_, {BoundaryCondition(st.group, BoundaryKind::no_slip_wall)}, BoundaryKind::no_slip_wall);
+  FaceSet own;
+  add_faces(mesh_, st.group, own);
   const auto no_slip = faces_of(mesh_, boundaries_.conditions(), BoundaryKind::no_slip_wall);
   const auto symmetry = faces_of(mesh_, boundaries_.conditions(), BoundaryKind::symmetry);
   // Unit normals of the group's own faces at each node, to tell a coplanar no-slip neighbour
