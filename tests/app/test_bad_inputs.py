@@ -347,12 +347,13 @@ def read_vtu(path):
 
 def check_output(test, out, min_rows, killed=False):
     """What a run wrote before it stopped parses: .pvd series, their .vtu files, probes.csv.
-    A run that failed leaves no *.tmp; one killed (SIGKILL) may leave the .vtu.tmp of the
-    frame it was writing, never listed in a .pvd (the next run removes it)."""
+    A run that failed leaves no *.tmp; one killed (SIGKILL) may leave the <file>.tmp of the
+    one file it was writing whole (a frame's .vtu or the .pvd that lists it, docs/output.md),
+    never listed in a .pvd, the <file> itself untouched (the next write unlinks it)."""
     files = os.listdir(out)
     temporary = [f for f in files if f.endswith(".tmp")]
     if killed:
-        test.assertTrue(all(f.endswith(".vtu.tmp") for f in temporary), temporary)
+        test.assertTrue(all(f.endswith((".vtu.tmp", ".pvd.tmp")) for f in temporary), temporary)
         test.assertLessEqual(len(temporary), 1, temporary)
     else:
         test.assertEqual(temporary, [], "leftover temporary files")
