@@ -143,8 +143,14 @@ class NewmarkSolver {
   /// Subtracts A y + B v from f_ext.
   void subtract_linear_load(const Eigen::VectorXd& y, const Eigen::VectorXd& v, Eigen::VectorXd& f_ext) const;
   /// Records the residual norm of an iteration (modified Newton: a poor contraction asks for
-  /// a new matrix at the next iteration).
+  /// a new matrix at the next iteration; a fresh symmetric part that contracts poorly makes
+  /// every later matrix the whole one).
   void record_residual(int iteration, double residual_norm);
+  /// Whether the next factorisation takes the symmetric part of a non-symmetric H (modified
+  /// Newton only; shell.md, "Assembly and linear solver").
+  bool symmetrises_iteration_matrix() const;
+  /// H <- (H + H^T)/2 in place on K_'s (structurally symmetric) pattern.
+  void symmetrise_iteration_matrix();
 
   const ShellModel& model_;
   NewmarkOptions options_;
@@ -161,6 +167,10 @@ class NewmarkSolver {
   double factorized_mass_coefficient_ = 0.0;
   double last_residual_ = 0.0;
   int matrix_factorizations_ = 0;
+  bool symmetrised_ = false;   ///< the kept factorisation is of H's symmetric part
+  bool whole_matrix_ = false;  ///< the symmetric part failed to contract: factorise H itself
+  int solves_since_factorization_ = 0;
+  std::vector<int> transpose_entry_;                ///< K_'s entry (j, i) for its entry (i, j)
   std::vector<double> kept_matrix_values_;          ///< modified Newton: H before its factorisation (checkpoints)
   std::vector<char> inertial_fixed_;                ///< constrained dofs plus every `a` (no inertia)
   const SparseMatrix* linear_stiffness_ = nullptr;  ///< A of set_linear_load
