@@ -15,6 +15,8 @@
 #include "shellflow/core/output_file.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/io/case_meshes.h"
+#include "shellflow/io/mesh_output.h"
+#include "shellflow/run/shell_modes.h"
 #include "shellflow/setup/coupled_setup.h"
 #include "shellflow/setup/shell_setup.h"
 
@@ -130,6 +132,38 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
   return json;
 }
 
+/// flutter_modes.vtu: the first in-vacuo modes of the basis (`mode_01`, ...) and the flutter
+/// mode, the least stable root's shape at the critical point (at the case's flow when the
+/// range has no boundary), as its real and imaginary parts (`flutter_mode_re`, `_im`; the
+/// largest displacement component is real and 1). Modal basis only.
+void write_mode_shapes(const shell::ShellModel& model, const coupling::LinearFlutterSystem& linear, const Result& r,
+                       const coupling::FlutterSetting& setting, const FlutterOptions& options, const fs::path& outdir) {
+  constexpr int shown = 6;
+  const Index nodes = model.num_nodes();
+  const Eigen::Index count = std::min<Eigen::Index>(shown, linear.basis().cols());
+  std::vector<std::vector<double>> values;  // VtuField views these
+  values.reserve(std::size_t(count) + 2);
+  std::vector<io::VtuField> fields;
+  for (Eigen::Index k = 0; k < count; ++k) {
+    values.push_back(run::normalised_mode_displacement(linear.basis().col(k), nodes));
+    fields.push_back({fmt::format("mode_{:02}", k + 1), 3, values.back()});
+  }
+  const auto [qA, qD] = r.sweep.critical ? setting.coefficients(options.parameter, r.sweep.critical->value)
+                                         : setting.coefficients(coupling::FlutterParameter::mach, setting.mach);
+  const Eigen::VectorXcd shape = linear.least_stable_mode(qA, qD).second;
+  std::vector<double> re, im;
+  for (Index n = 0; n < nodes; ++n)
+    for (int i = 0; i < 3; ++i) {
+      re.push_back(shape(shell::dofs_per_node * n + i).real());
+      im.push_back(shape(shell::dofs_per_node * n + i).imag());
+    }
+  values.push_back(std::move(re));
+  fields.push_back({"flutter_mode_re", 3, values.back()});
+  values.push_back(std::move(im));
+  fields.push_back({"flutter_mode_im", 3, values.back()});
+  io::write_mesh_vtu(outdir / "flutter_modes.vtu", model.mesh(), std::move(fields));
+}
+
 /// The boundary found (or the advice to widen the range) and the case's least stable root.
 void log_outcome(const Result& r, const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes,
                  const fs::path& outdir) {
@@ -147,9 +181,10 @@ void log_outcome(const Result& r, const coupling::FlutterSetting& setting, const
   }
   spdlog::info(
       "the case's flow (lambda = {:.6g}, Mach {:.4g}): least stable root {:.6g} 1/s at {:.6g} Hz; wrote "
-      "{}: flutter_locus.csv, flutter.json",
+      "{}: flutter_locus.csv, flutter.json{}",
       setting.lambda_of_mach(setting.mach), setting.mach, r.least_stable.real(),
-      std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi), outdir.string());
+      std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi), outdir.string(),
+      options.direct ? "" : ", flutter_modes.vtu");
 }
 
 }  // namespace
@@ -194,13 +229,20 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
   // 3. The outputs and the plot.
   write_locus(r, outdir);
   const std::string json = write_summary(c, r, linear, setting, options, modes, outdir);
+  if (!options.direct) write_mode_shapes(model, linear, r, setting, options, outdir);
   log_outcome(r, setting, options, modes, outdir);
   if (options.json) std::printf("%s\n", json.c_str());
-  if (common.plot)
+  if (common.plot) {
     make_plot("plot_flutter_locus.py",
               {(outdir / "flutter_locus.csv").string(), "--summary", (outdir / "flutter.json").string(), "-o",
                (outdir / "flutter_locus.png").string()},
               options.json);
+    if (!options.direct)
+      make_plot("plot_shell_field.py",
+                {(outdir / "flutter_modes.vtu").string(), "--modes", "--max-panels", "8", "-o",
+                 (outdir / "flutter_modes.png").string()},
+                options.json);
+  }
   return 0;
 }
 

@@ -46,6 +46,7 @@ LinearFlutterSystem::LinearFlutterSystem(const shell::ShellModel& model, const P
     for (int i = 0; i < modes; ++i) K_(i, i) = std::pow(2.0 * std::numbers::pi * m.frequencies[std::size_t(i)], 2);
     A_ = Phi.transpose() * (A1 * Phi);
     D_ = Phi.transpose() * (D1 * Phi);
+    basis_ = std::move(Phi);
     return;
   }
   // Full system: the free dofs that carry mass (positions, directors) keep their rows; the
@@ -92,7 +93,33 @@ LinearFlutterSystem LinearFlutterSystem::truncated(int k) const {
   t.A_ = A_.topLeftCorner(k, k);
   t.D_ = D_.topLeftCorner(k, k);
   t.frequencies_.assign(frequencies_.begin(), frequencies_.begin() + k);
+  t.basis_ = basis_.leftCols(k);
   return t;
+}
+
+std::pair<std::complex<double>, Eigen::VectorXcd> LinearFlutterSystem::least_stable_mode(double q_stiffness,
+                                                                                         double q_damping) const {
+  if (!modal_) throw SolverError("linear flutter analysis: mode shapes need the modal basis (not --direct)");
+  const Eigen::Index n = K_.rows();
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+  S.topRightCorner(n, n).setIdentity();
+  S.bottomLeftCorner(n, n) = -(K_ + q_stiffness * A_);
+  S.bottomRightCorner(n, n) = -q_damping * D_;
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(S, true);
+  if (es.info() != Eigen::Success) throw SolverError("linear flutter analysis: the eigenvalue solver failed");
+  // The least stable root with Im s >= 0 (its conjugate carries the same shape).
+  Eigen::Index best = -1;
+  for (Eigen::Index k = 0; k < 2 * n; ++k) {
+    const auto z = es.eigenvalues()(k);
+    if (z.imag() >= 0.0 && (best < 0 || z.real() > es.eigenvalues()(best).real())) best = k;
+  }
+  Eigen::VectorXcd shape = basis_.cast<std::complex<double>>() * es.eigenvectors().col(best).head(n);
+  Eigen::Index largest = 0;
+  double peak = -1.0;
+  for (Eigen::Index i = 0; i < shape.size(); ++i)
+    if (i % shell::dofs_per_node < 3 && std::abs(shape(i)) > peak) peak = std::abs(shape(largest = i));
+  if (peak > 0.0) shape /= shape(largest);
+  return {es.eigenvalues()(best), shape};
 }
 
 std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(double q_stiffness, double q_damping) const {

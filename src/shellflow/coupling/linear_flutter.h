@@ -48,6 +48,14 @@ class LinearFlutterSystem {
   /// The system on the first k modes of this modal basis (the truncation check).
   LinearFlutterSystem truncated(int k) const;
 
+  /// The least stable root at these coefficients and its shape in the shell's dofs (modal
+  /// basis only): the state matrix's eigenvector, q = Phi y, its phase turned so that the
+  /// largest nodal displacement component is real and 1. Throws SolverError on the full
+  /// system.
+  std::pair<std::complex<double>, Eigen::VectorXcd> least_stable_mode(double q_stiffness, double q_damping) const;
+  /// The in-vacuo modes of the basis, one column per mode (modal basis only; empty otherwise).
+  const Eigen::MatrixXd& basis() const { return basis_; }
+
   Eigen::Index size() const { return static_cast<Eigen::Index>(K_.rows()); }
   bool modal() const { return modal_; }
   /// In-vacuo frequencies of the basis [Hz] (modal basis only; empty for the full system).
@@ -58,6 +66,7 @@ class LinearFlutterSystem {
   bool modal_ = true;
   // M^-1-scaled matrices: the state matrix is [0 I; -(K + qA A) -qD D].
   Eigen::MatrixXd K_, A_, D_;
+  Eigen::MatrixXd basis_;  ///< Phi: the in-vacuo modes in the shell's dofs (modal basis)
   std::vector<double> frequencies_;
 };
 

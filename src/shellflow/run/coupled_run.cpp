@@ -131,6 +131,8 @@ void run_coupled(const RunContext& run) {
   response.write();
   if (!run.c.probes.empty())
     run.plots.push_back({"plot_flutter.py", {(run.outdir / "probes.csv").string(), "-o", run.outdir.string()}});
+  if (auto args = shell_field_plot_arguments(*run.meshes.shell, run.outdir, true); !args.empty())
+    run.plots.push_back({"plot_shell_field.py", std::move(args)});
   if (outputs.quality)
     run.plots.push_back(
         {"plot_probes.py",

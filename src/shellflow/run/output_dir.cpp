@@ -20,11 +20,11 @@ namespace shellflow::run {
 namespace {
 
 // The fixed names of run output (docs/output.md); the numbered ones are matched below.
-constexpr std::array<std::string_view, 17> kRunOutputNames = {
+constexpr std::array<std::string_view, 19> kRunOutputNames = {
     "fluid.pvd",        "shell.pvd",          "space.pvd",          "modes.pvd",          "shell_modes.vtu",
     "modes.csv",        "modes.json",         "probes.csv",         "probes.png",         "coupling.csv",
     "mesh_quality.csv", "mesh_quality.png",   "motion_quality.csv", "motion_quality.png", "response.json",
-    "flutter.png",      "flutter_growth.png",
+    "flutter.png",      "flutter_growth.png", "deflection.png",     "modes.png",
 };
 
 bool all_digits(std::string_view s, std::size_t at_least) {
@@ -43,9 +43,9 @@ bool is_output_like_name(std::string_view name) {
 
 /// The files of `mesh`, `flutter` and `study` (and meshes of every run).
 bool is_command_output_name(std::string_view name) {
-  constexpr std::array<std::string_view, 8> kNames = {"meshes.json",       "flutter.json", "flutter_locus.csv",
-                                                      "flutter_locus.png", "study.csv",    "study.json",
-                                                      "study_growth.png",  "study_lco.png"};
+  constexpr std::array<std::string_view, 9> kNames = {"meshes.json",       "flutter.json",      "flutter_locus.csv",
+                                                      "flutter_locus.png", "flutter_modes.png", "study.csv",
+                                                      "study.json",        "study_growth.png",  "study_lco.png"};
   return std::find(kNames.begin(), kNames.end(), name) != kNames.end() || name.ends_with(".vtu") ||
          name.ends_with(".msh") || name.ends_with(".msh.cache");
 }
@@ -170,6 +170,22 @@ std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::file
                 {"--reference", p.name, r.file.string(), r.column, fmt::format("{:.17g}", r.scale), r.label});
   }
   return args;
+}
+
+std::vector<std::string> shell_field_plot_arguments(const mesh::Mesh& shell, const std::filesystem::path& outdir,
+                                                    bool time_series) {
+  if (shell.nodes.empty()) return {};
+  Vec3 lo = shell.nodes.front(), hi = lo;
+  for (const Vec3& x : shell.nodes) {
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  Vec3 extent = hi - lo;
+  std::sort(extent.data(), extent.data() + 3);
+  if (extent(1) < 0.2 * extent(2)) return {};
+  if (time_series) return {(outdir / "shell.pvd").string(), "-o", (outdir / "deflection.png").string()};
+  return {(outdir / "shell_modes.vtu").string(), "--modes", "--frequencies",
+          (outdir / "modes.csv").string(),       "-o",      (outdir / "modes.png").string()};
 }
 
 void make_plot(const std::string& script, const std::vector<std::string>& args, bool output_to_stderr) {

@@ -8,6 +8,7 @@
 
 #include "shellflow/core/output_file.h"
 #include "shellflow/io/case.h"
+#include "shellflow/mesh/mesh.h"
 
 namespace shellflow::run {
 /// An output folder in use: its path and the lock that keeps other shellflow processes out
@@ -37,6 +38,13 @@ std::size_t remove_previous_run_output(const std::filesystem::path& dir);
 /// The arguments of tools/plot_probes.py for a run's probes.csv: the abscissa's label (a static
 /// shell run's `time` column is its load factor) and each probe's reference curve.
 std::vector<std::string> probe_plot_arguments(const io::Case& c, const std::filesystem::path& outdir);
+
+/// The contour plots of a shell that spans a surface (its second-largest extent at least a
+/// fifth of its largest: a plate or a panel, not the quasi-2-D strip): `deflection.png` of
+/// OUTDIR/shell.pvd at its frame of largest normal displacement (`time_series`), or
+/// `modes.png` of OUTDIR/shell_modes.vtu (tools/plot_shell_field.py). Empty for a strip.
+std::vector<std::string> shell_field_plot_arguments(const mesh::Mesh& shell, const std::filesystem::path& outdir,
+                                                    bool time_series);
 
 /// One plot: tools/<script> and its arguments.
 struct PlotJob {

@@ -34,15 +34,7 @@ struct ModeShape {
 
 ModeShape mode_shape(const Eigen::VectorXd& phi, const Eigen::VectorXd& M_phi, Index nodes) {
   ModeShape m;
-  m.displacement = nodal_part(phi, nodes, 0);
-  double largest = 0.0;
-  for (const double d : m.displacement)
-    if (std::abs(d) > std::abs(largest)) largest = d;
-  double norm = 0.0;
-  for (std::size_t k = 0; k < m.displacement.size(); k += 3)
-    norm = std::max(norm, std::hypot(m.displacement[k], m.displacement[k + 1], m.displacement[k + 2]));
-  const double scale = norm > 0.0 ? std::copysign(1.0 / norm, largest) : 1.0;
-  for (double& d : m.displacement) d *= scale;
+  m.displacement = normalised_mode_displacement(phi, nodes);
   for (Index n = 0; n < nodes; ++n)
     for (int i = 0; i < 3; ++i) m.kinetic(i) += phi(shell::dofs_per_node * n + i) * M_phi(shell::dofs_per_node * n + i);
   Eigen::Index axis = 0;
@@ -50,6 +42,22 @@ ModeShape mode_shape(const Eigen::VectorXd& phi, const Eigen::VectorXd& M_phi, I
   m.direction = "xyz"[axis];
   return m;
 }
+
+}  // namespace
+
+std::vector<double> normalised_mode_displacement(const Eigen::VectorXd& phi, Index nodes) {
+  std::vector<double> d = nodal_part(phi, nodes, 0);
+  double largest = 0.0;
+  for (const double x : d)
+    if (std::abs(x) > std::abs(largest)) largest = x;
+  double norm = 0.0;
+  for (std::size_t k = 0; k < d.size(); k += 3) norm = std::max(norm, std::hypot(d[k], d[k + 1], d[k + 2]));
+  const double scale = norm > 0.0 ? std::copysign(1.0 / norm, largest) : 1.0;
+  for (double& x : d) x *= scale;
+  return d;
+}
+
+namespace {
 
 /// The frequencies and modes, `FILE:LINE: shell.analysis: what` when the iteration fails.
 shell::ModalResult solve(const io::ShellAnalysis& analysis, const shell::ShellModel& model) {

@@ -135,9 +135,13 @@ void run_shell(const RunContext& run) {
       run.control.not_time_stepping("a modal analysis");
       run.recorder.record(0, 0.0, Record::probes_and_fields);  // the shell at rest, like every run
       write_modes(run.c, model, run.outdir);
+      if (auto args = shell_field_plot_arguments(model.mesh(), run.outdir, false); !args.empty())
+        run.plots.push_back({"plot_shell_field.py", std::move(args)});
       return;
     case io::ShellAnalysisType::dynamic:
       run_dynamic(run, model);
+      if (auto args = shell_field_plot_arguments(model.mesh(), run.outdir, true); !args.empty())
+        run.plots.push_back({"plot_shell_field.py", std::move(args)});
       return;
   }
 }
