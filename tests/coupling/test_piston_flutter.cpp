@@ -9,21 +9,10 @@
 #include <vector>
 
 #include "coupling_test_util.h"
-#include "shellflow/coupling/linear_flutter.h"
-#include "shellflow/coupling/response.h"
-#include "shellflow/io/case_meshes.h"
-#include "shellflow/setup/coupled_setup.h"
-#include "shellflow/shell/shell_queries.h"
+#include "piston_runs.h"
 
 namespace shellflow::coupling {
 namespace {
-
-struct Flutter {
-  double growth_rate = 0.0;          ///< 1/s
-  double frequency = 0.0;            ///< Hz
-  std::vector<double> w;             ///< the probe's history, one value per step
-  double coupling_iterations = 0.0;  ///< mean per step
-};
 
 io::Case flutter_case(const char* file, double step, double end, LoadPredictor predictor) {
   io::Case c = io::read_case(coupling_test::cases_dir / "panel_flutter" / file);
@@ -37,36 +26,11 @@ io::Case flutter_case(const char* file, double step, double end, LoadPredictor p
   return c;
 }
 
-/// The time run: w at x = 0.6 m, fitted over [t0, end].
-Flutter time_run(const io::Case& c, double t0) {
-  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
-  setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
-  const shell::ShellPoint probe = shell::ShellLocator(*s.shell).closest(Vec3(0.6, 0.0, 0.0125)).point;
-  std::vector<double> t{0.0}, w{0.0};
-  const auto steps = static_cast<long>(std::llround(c.time->end / c.time->step));
-  double iterations = 0.0;
-  for (long i = 0; i < steps; ++i) {
-    iterations += s.driver->step(c.time->step).coupling_iterations;
-    t.push_back(s.solver->time());
-    w.push_back(shell::interpolate_nodal(*s.shell, probe, s.solver->displacement()).y());
-  }
-  const ResponseFit fit = fit_response(t, w, t0, c.time->end);
-  EXPECT_GT(fit.extrema, 10);
-  return {fit.growth_rate, fit.frequency_hz, w, iterations / double(steps)};
-}
+using coupling_test::eigen_analysis;
+using coupling_test::Flutter;
 
-/// The eigenvalue of largest real part of M q'' + D q' + (K + A) q = 0 on the first
-/// `modes` in-vacuo modes of the supported shell (coupling::LinearFlutterSystem).
-Flutter eigen_analysis(const io::Case& c, int modes) {
-  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
-  setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
-  const PistonTheory& theory = s.piston->theory();
-  const LinearFlutterSystem linear(*s.shell, theory, modes);
-  const auto roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
-  const auto best =
-      *std::max_element(roots.begin(), roots.end(), [](const auto& a, const auto& b) { return a.real() < b.real(); });
-  return {best.real(), std::abs(best.imag()) / (2 * M_PI), {}, 0.0};
-}
+/// The time run: w at x = 0.6 m, fitted over [t0, end].
+Flutter time_run(const io::Case& c, double t0) { return coupling_test::time_run(c, Vec3(0.6, 0.0, 0.0125), t0); }
 
 TEST(PistonFlutter, ClampedSlidingPanelAgainstTheLinearEigenvalues) {
   const double dt = 1e-4, end = 0.12, t0 = 0.02;
