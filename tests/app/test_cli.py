@@ -1296,7 +1296,7 @@ class Plates3D(unittest.TestCase):
     check, the linear analysis with its mode shapes, and a short plate run with its plots."""
     CASES = os.path.join(ROOT, "cases", "panel_3d")
     NAMES = ("clamped_square_piston", "simply_supported_square_piston", "rectangle_2x1_piston",
-             "cylindrical_panel_piston")
+             "cylindrical_panel_piston", "clamped_square", "clamped_square_coarse")
 
     def setUp(self):
         self.tmp = tempfile.TemporaryDirectory()
@@ -1352,6 +1352,32 @@ class Plates3D(unittest.TestCase):
         # The cavity dip pushes the plate down (into the cavity) in its first steps.
         self.assertLess(float(rows[-1]["w_x0600"]), 0.0)
 
+
+    def test_euler_half_model_coarse(self):
+        # The 3-D Euler case's CI variant (10 ms on the coarse box): the plate moves, the
+        # moving 3-D mesh keeps its quality, the gas does not cross the symmetry plane.
+        out = os.path.join(self.tmp.name, "euler")
+        r = shellflow("run", os.path.join(self.CASES, "clamped_square_coarse.yaml"), "-o", out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        with open(os.path.join(out, "probes.csv"), newline="") as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(len(rows), 101)
+        w = [abs(float(row["w_x0600"])) for row in rows]
+        self.assertGreater(max(w), 1e-5)  # the dip's 28 Pa bend the plate by ~0.1 mm
+        self.assertLess(max(w), 1e-3)
+        for row in rows:
+            self.assertLess(abs(float(row["p_panel_mean"]) / 28000 - 1), 0.01)
+        with open(os.path.join(out, "mesh_quality.csv"), newline="") as f:
+            quality = list(csv.DictReader(f))
+        self.assertEqual(int(quality[-1]["fluid_inverted"]), 0)
+        self.assertGreater(float(quality[-1]["fluid_min_quality_ratio"]), 0.99)
+        fluid = read_vtu_point_arrays(os.path.join(out, "fluid_000100.vtu"))
+        speed = 3.5 * math.sqrt(1.4 * 28000 / 0.339)
+        on_plane = [i for i, x in enumerate(fluid["Points"]) if abs(x[2]) < 1e-12]
+        self.assertGreater(len(on_plane), 100)
+        self.assertLess(max(abs(fluid["velocity"][i][2]) for i in on_plane), 1e-10 * speed)
+        for name in ("deflection.png", "flutter.png", "mesh_quality.png", "fluid.pvd", "space.pvd"):
+            self.assertTrue(os.path.getsize(os.path.join(out, name)) > 100, name)
 
 if __name__ == "__main__":
     unittest.main()
