@@ -41,7 +41,12 @@ struct NewmarkOptions {
   double beta = 0.25;
   double gamma = 0.5;
   double mass_damping = 0.0;  ///< c_m in C = c_m M (1/s)
-  NewtonOptions newton;
+  /// Modified Newton renews its matrix only when an iteration contracts the residual by less
+  /// than 0.9 (statics: 0.5). In dynamics the mass term keeps a kept matrix close, and an
+  /// iteration (an internal-force assembly and a solve) costs a twentieth of a factorisation
+  /// on a 12 x 12 cubic plate: 0.9 takes 22 s of shell time where 0.5 takes 40 s for the
+  /// clamped square's 0.06 s of piston-theory flutter, with the same states to 1e-9.
+  NewtonOptions newton{.refresh_ratio = 0.9};
 };
 
 /// The whole state of a NewmarkSolver (NewmarkSolver::state / restore).
