@@ -114,7 +114,8 @@ int main(int argc, char** argv) {
                          "Linear flutter analysis: the case's shell linearised about its reference state with "
                          "first-order piston theory at the case's free stream; root locus against lambda = "
                          "rho U^2 a^3/(beta D) or Mach, the critical point (flutter_locus.csv, flutter.json, "
-                         "flutter_locus.png); see docs/flutter.md");
+                         "flutter_locus.png), the first in-vacuo modes and the flutter mode (flutter_modes.vtu, "
+                         "flutter_modes.png); see docs/flutter.md");
   add_case(flutter);
   add_output(flutter);
   flutter
