@@ -4,6 +4,7 @@
 #include <filesystem>
 
 #include "shellflow/core/version.h"
+#include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/mesh/gmsh_io.h"
 #include "shellflow/shell/shell_model.h"
 
@@ -37,6 +38,20 @@ inline shellflow::shell::ShellModel panel_model(const shellflow::mesh::Mesh& mes
   section.thickness = 1.35e-3;
   section.material = {77.28e9, 0.33, 2710.0};
   return shellflow::shell::ShellModel(mesh, section);
+}
+
+/// The flutter setting of the paper's aluminium (1.35 mm) under its air (0.339 kg/m^3, 28 kPa)
+/// for a panel of streamwise length `length` at `mach`.
+inline shellflow::coupling::FlutterSetting panel_flutter_setting(double length, double mach, bool damping) {
+  constexpr double h = 1.35e-3, E = 77.28e9, nu = 0.33;
+  shellflow::coupling::FlutterSetting s;
+  s.length = length;
+  s.bending_stiffness = E * h * h * h / (12.0 * (1.0 - nu * nu));
+  s.density = 0.339;
+  s.pressure = 28000.0;
+  s.mach = mach;
+  s.aerodynamic_damping = damping;
+  return s;
 }
 
 }  // namespace coupling_test

@@ -13,6 +13,7 @@
 #include <numbers>
 
 #include "../shell/structured_shell_mesh.h"
+#include "coupling_test_util.h"
 #include "shellflow/coupling/linear_flutter.h"
 
 namespace shellflow::coupling {
@@ -48,16 +49,7 @@ PistonTheory piston(const shell::ShellModel& model) {
   return PistonTheory(model, flow);
 }
 
-FlutterSetting setting(bool damping) {
-  FlutterSetting s;
-  s.length = a;
-  s.bending_stiffness = E * h * h * h / (12.0 * (1.0 - nu * nu));
-  s.density = 0.339;
-  s.pressure = 28000.0;
-  s.mach = 2.3;
-  s.aerodynamic_damping = damping;
-  return s;
-}
+FlutterSetting setting(bool damping) { return coupling_test::panel_flutter_setting(a, 2.3, damping); }
 
 /// lambda_cr and the non-dimensional coalescence frequency omega_bar = omega sqrt(rho h a^4 / D)
 /// of the finite-difference beam with n intervals.

@@ -10,6 +10,7 @@
 #include <cstdio>
 
 #include "../shell/structured_shell_mesh.h"
+#include "coupling_test_util.h"
 #include "plate_flutter_reference.h"
 #include "shellflow/coupling/linear_flutter.h"
 
@@ -46,17 +47,6 @@ shell::ShellModel plate(const PlateCase& c) {
   return model;
 }
 
-FlutterSetting setting(double a) {
-  FlutterSetting s;
-  s.length = a;
-  s.bending_stiffness = E * h * h * h / (12.0 * (1.0 - nu * nu));
-  s.density = 0.339;
-  s.pressure = 28000.0;
-  s.mach = 3.0;
-  s.aerodynamic_damping = false;
-  return s;
-}
-
 ref::Flutter reference(const PlateCase& c) {
   ref::Plate p;
   p.a = c.a;
@@ -86,8 +76,9 @@ Critical shellflow_critical(const PlateCase& c, int modes) {
   flow.direction = Vec3::UnitX();
   flow.wet_normal = Vec3::UnitZ();
   const PistonTheory theory(model, flow);
-  const LinearFlutterSystem system(model, theory, modes);
-  const auto r = sweep_flutter(system, setting(c.a), FlutterParameter::lambda, 0.0, 2000.0, 21);
+  const LinearFlutterSystem linear(model, theory, modes);
+  const auto r = sweep_flutter(linear, coupling_test::panel_flutter_setting(c.a, 3.0, false), FlutterParameter::lambda,
+                               0.0, 2000.0, 21);
   EXPECT_TRUE(r.critical) << c.name;
   return r.critical ? Critical{r.critical->lambda, r.critical->frequency_hz} : Critical{NAN, NAN};
 }
