@@ -59,6 +59,10 @@ struct StudyOptions {
 };
 int study_command(const CommonOptions& common, const StudyOptions& options);
 int mesh_command(const CommonOptions& options, bool json);
+/// `shellflow partition`: the case's fluid mesh in `parts` parts (mesh/partition.h): a table of
+/// the parts, partition.json (mesh::PartitionStats) and partition.vtu (cell field rank, point
+/// field owner) in the output folder.
+int partition_command(const CommonOptions& options, int parts);
 int check_command(const CommonOptions& options);
 
 }  // namespace shellflow::app

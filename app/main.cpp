@@ -5,6 +5,7 @@
 //   shellflow run   cases/panel_flutter/clamped_clamped.yaml [-o OUTDIR] [--stop-after N]
 //                   [--stop-at-wall S] [--restart OUTDIR[/checkpoint_NNNNNN.ckpt]]
 //   shellflow flutter cases/panel_flutter/clamped_clamped_piston.yaml [--parameter mach] [--json]
+//   shellflow partition cases/panel_flutter/clamped_clamped.yaml --parts N [-o OUTDIR]
 //
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
 // exit code is 1 (2 for a bad command line); a run stopped with a checkpoint (--stop-after,
@@ -144,6 +145,19 @@ int main(int argc, char** argv) {
   flutter->add_flag("--json", flutter_options.json,
                     "Print one JSON object on stdout (lambda_cr, mach_cr, frequency_hz, ...) and nothing else");
 
+  int partition_parts = 0;
+  auto* partition = cli.add_subcommand("partition",
+                                       "Split the case's fluid mesh into parts (METIS) as a distributed run would: "
+                                       "print each part's owned and ghost nodes and cells, neighbours and interface "
+                                       "nodes, the halo share and the imbalance; write partition.json and "
+                                       "partition.vtu (cell field rank, point field owner)");
+  add_case(partition);
+  partition->add_option("-o,--output", options.output_dir,
+                        "Output directory (default: the case's output.directory, else out/<name>)");
+  partition->add_option("--parts", partition_parts, "Number of parts (ranks)")
+      ->required()
+      ->check(CLI::Range(1, 1 << 24));
+
   app::StudyOptions study_options;
   auto* study =
       cli.add_subcommand("study",
@@ -170,6 +184,7 @@ int main(int argc, char** argv) {
     if (*check) return app::check_command(options);
     if (*flutter) return app::flutter_command(options, flutter_options);
     if (*study) return app::study_command(options, study_options);
+    if (*partition) return app::partition_command(options, partition_parts);
   } catch (const Error& e) {
     std::fprintf(stderr, "shellflow: error: %s\n", e.what());
     return 1;

@@ -24,6 +24,14 @@ set_target_properties(Gmsh::gmsh PROPERTIES
 # it nowhere either; find it only to report it.
 find_program(GMSH_EXECUTABLE gmsh)
 
+# Debian's libmetis-dev (METIS 5.1, serial) ships metis.h and libmetis.so but no CMake package.
+find_path(METIS_INCLUDE_DIR metis.h REQUIRED)
+find_library(METIS_LIBRARY metis REQUIRED)
+add_library(METIS::metis UNKNOWN IMPORTED)
+set_target_properties(METIS::metis PROPERTIES
+  IMPORTED_LOCATION "${METIS_LIBRARY}"
+  INTERFACE_INCLUDE_DIRECTORIES "${METIS_INCLUDE_DIR}")
+
 if(SHELLFLOW_BUILD_TESTS)
   find_package(GTest REQUIRED)
 endif()

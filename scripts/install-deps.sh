@@ -9,6 +9,8 @@ packages=(
   libeigen3-dev libgmsh-dev gmsh
   libyaml-cpp-dev libcli11-dev libfmt-dev libspdlog-dev libnanoflann-dev
   libomp-dev libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev
+  # serial METIS 5.1: partitions of the fluid mesh (mesh/partition.h)
+  libmetis-dev
   python3 python3-matplotlib python3-numpy python3-meshio
   # the fuzz preset (tests/fuzz): clang with libFuzzer and the sanitizer runtimes
   clang-14 libclang-rt-14-dev

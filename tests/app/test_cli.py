@@ -1379,5 +1379,55 @@ class Plates3D(unittest.TestCase):
         for name in ("deflection.png", "flutter.png", "mesh_quality.png", "fluid.pvd", "space.pvd"):
             self.assertTrue(os.path.getsize(os.path.join(out, name)) > 100, name)
 
+class PartitionCommand(unittest.TestCase):
+    """`shellflow partition`: the default case's fluid mesh split by METIS (mesh/partition.h)."""
+
+    def test_parts_cover_the_mesh_once_and_the_vtu_holds_the_ranks(self):
+        import meshio
+
+        with tempfile.TemporaryDirectory() as tmp:
+            for parts in (2, 3):
+                out = os.path.join(tmp, f"parts{parts}")
+                r = shellflow("partition", PANEL, "--parts", str(parts), "-o", out)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                self.assertIn("imbalance", r.stdout)
+                with open(os.path.join(out, "partition.json")) as f:
+                    stats = json.load(f)
+                m = meshio.read(os.path.join(out, "partition.vtu"))
+                cells = sum(len(c.data) for c in m.cells)
+                self.assertEqual(stats["parts"], parts)
+                self.assertEqual(stats["nodes"], len(m.points))
+                self.assertEqual(stats["cells"], cells)
+                per_part = stats["per_part"]
+                self.assertEqual(len(per_part), parts)
+                self.assertEqual(sum(p["owned_nodes"] for p in per_part), len(m.points))
+                self.assertEqual(sum(p["owned_cells"] for p in per_part), cells)
+                self.assertEqual(sum(p["ghost_nodes"] for p in per_part), stats["ghost_nodes"])
+                for p in per_part:
+                    self.assertGreater(p["ghost_nodes"], 0)
+                    self.assertGreater(p["interface_nodes"], 0)
+                    self.assertGreaterEqual(p["neighbours"], 1)
+                    self.assertLessEqual(p["owned_cells"], 1.1 * cells / parts)
+                self.assertLessEqual(stats["imbalance"], 1.1)
+                rank = [int(v) for block in m.cell_data["rank"] for v in block]
+                self.assertEqual(len(rank), cells)
+                self.assertEqual(sorted(set(rank)), list(range(parts)))
+                for p in range(parts):
+                    self.assertEqual(rank.count(p), per_part[p]["owned_cells"])
+                owner = [int(v) for v in m.point_data["owner"]]
+                self.assertEqual(sorted(set(owner)), list(range(parts)))
+                for p in range(parts):
+                    self.assertEqual(owner.count(p), per_part[p]["owned_nodes"])
+
+    def test_more_parts_than_cells_is_refused(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            r = shellflow("partition", PANEL, "--parts", "1000000", "-o", tmp)
+            self.assertEqual(r.returncode, 1, r.stderr)
+            self.assertIn("the number of parts must be between 1 and", r.stderr)
+            r = shellflow("partition", PANEL, "--parts", "0", "-o", tmp)
+            self.assertEqual(r.returncode, 105, r.stderr)  # CLI11's ValidationError
+            self.assertIn("--parts: Value 0 not in range 1 to", r.stderr)
+
+
 if __name__ == "__main__":
     unittest.main()
