@@ -42,8 +42,9 @@ int main(int argc, char** argv) {
   cli.set_version_flag("--version", std::string("shellflow ") + shellflow::version);
   cli.require_subcommand(1);
   cli.footer(
-      "Environment: OMP_NUM_THREADS (threads of a run), OMP_WAIT_POLICY=passive (on a loaded "
-      "machine), SHELLFLOW_SIMD=auto|sse2|avx2|avx2-fma|avx512 (instruction set of the flow's element "
+      "Environment: OMP_NUM_THREADS (threads of a run; the results are the same bits on any count), "
+      "SHELLFLOW_SPIN_US=microseconds (how long an idle thread spins before it sleeps; default 20), "
+      "SHELLFLOW_SIMD=auto|sse2|avx2|avx2-fma|avx512 (instruction set of the flow's element "
       "pass; default auto: the best the CPU has; sse2 is the reference, avx2 gives its bits, "
       "avx2-fma and avx512 round differently), SHELLFLOW_GEO_TIMEOUT=seconds (the most Gmsh may take to read a "
       ".geo; default 120). An output folder is used by one process at a time (.shellflow.lock) and no file is "

@@ -1379,6 +1379,34 @@ class Plates3D(unittest.TestCase):
         for name in ("deflection.png", "flutter.png", "mesh_quality.png", "fluid.pvd", "space.pvd"):
             self.assertTrue(os.path.getsize(os.path.join(out, name)) > 100, name)
 
+class ThreadCounts(unittest.TestCase):
+    """The default case gives the same bits on any thread count (docs/parallel.md "Threads")."""
+
+    def test_default_case_on_one_two_and_three_threads_writes_the_same_files(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            outs = []
+            for threads in (1, 2, 3):
+                out = os.path.join(tmp, f"out{threads}")
+                env = {**os.environ, "OMP_NUM_THREADS": str(threads)}
+                r = subprocess.run([EXE, "run", PANEL, "-o", out, "--no-plot", "--set", "time.end=0.002"],
+                                   capture_output=True, text=True, timeout=600, env=env)
+                self.assertEqual(r.returncode, 0, r.stderr)
+                outs.append(out)
+            names = ["probes.csv", "response.json", "coupling.csv", "fluid_000020.vtu", "shell_000020.vtu"]
+            for name in names:
+                with open(os.path.join(outs[0], name), "rb") as f:
+                    reference = f.read()
+                self.assertGreater(len(reference), 100, name)
+                for out in outs[1:]:
+                    with open(os.path.join(out, name), "rb") as f:
+                        self.assertEqual(f.read(), reference, f"{name}: {out} differs from the 1-thread run")
+            # The flow did change over the run (the comparison is not of initial states).
+            p0 = read_vtu_point_arrays(os.path.join(outs[0], "fluid_000000.vtu"))
+            p1 = read_vtu_point_arrays(os.path.join(outs[0], "fluid_000020.vtu"))
+            key = next(k for k in p0 if k.lower().startswith("pressure"))
+            self.assertTrue(any(a != b for a, b in zip(p0[key], p1[key])))
+
+
 class PartitionCommand(unittest.TestCase):
     """`shellflow partition`: the default case's fluid mesh split by METIS (mesh/partition.h)."""
 

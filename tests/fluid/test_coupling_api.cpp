@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -203,9 +204,10 @@ Bits march(FluidModel& model, const std::vector<Vec3>& X, int m) {
 
 }  // namespace
 
-TEST(Snapshot, RestoreThenStepRepeatsTheStepsBitForBitWithOneAndTwoThreads) {
+TEST(Snapshot, RestoreThenStepRepeatsTheStepsBitForBitOnOneTwoAndThreeThreads) {
   const int threads_before = omp_get_max_threads();
-  for (const int threads : {1, 2}) {
+  std::optional<Bits> one_thread;  // the run on one thread: every thread count gives its bits
+  for (const int threads : {1, 2, 3}) {
     omp_set_num_threads(threads);
     // 21 600 tetrahedra: above the element-loop threshold, so two threads do run.
     auto model = slab_model(80, 45, supersonic, {}, 1.0);
@@ -230,8 +232,13 @@ TEST(Snapshot, RestoreThenStepRepeatsTheStepsBitForBitWithOneAndTwoThreads) {
     EXPECT_EQ(again.w, first.w) << threads;
     EXPECT_EQ(again.time, first.time) << threads;
     EXPECT_EQ(again.steps, first.steps) << threads;
-    if (threads == 2) {  // the same model stepped on one thread: the same sums
-      omp_set_num_threads(1);
+    if (!one_thread) {
+      one_thread = first;
+    } else {  // a model built and stepped on more threads: the bits of the one-thread run
+      for (int v = 0; v < num_variables; ++v)
+        EXPECT_EQ(first.U.var[std::size_t(v)], one_thread->U.var[std::size_t(v)]) << threads << " threads, var " << v;
+      EXPECT_EQ(first.x, one_thread->x) << threads;
+      omp_set_num_threads(1);  // and this model stepped again on one thread
       model.restore(snap);
       const Bits serial = march(model, X, 4);
       for (int v = 0; v < num_variables; ++v)

@@ -143,7 +143,7 @@ TEST(TetGeometry, ColourLoopGivesTheSerialLumpedMassBitForBit) {
       shuffled(shellflow::support::box_mesh({18, 18, 18}, Vec3(1, 1, 1), [](const Vec3&) { return std::string(); }), 7);
   ASSERT_GT(mesh.num_cells(), parallel_threshold);
   const CellColouring colours =
-      colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), default_block_size(mesh.num_cells(), 2));
+      colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), default_block_size(mesh.num_cells()));
   std::vector<Index> tets;
   for (const Index c : colours.order) {
     const auto cell = mesh.cells.element(c);

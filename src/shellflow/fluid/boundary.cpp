@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/parallel.h"
 
 namespace shellflow::fluid {
 namespace {
@@ -324,11 +325,17 @@ std::uint64_t BoundarySet::facets_off_their_planes(std::span<const Vec3> x) cons
   for (std::size_t k = 0; k < facets_.size(); ++k) {
     const Facet& facet = facets_[k];
     const auto n = std::ptrdiff_t(facet.nodes.size());
-    bool on = true;
-#pragma omp parallel for schedule(static) reduction(&& : on) if (std::size_t(n) > 8 * boundary_parallel_threshold)
-    for (std::ptrdiff_t i = 0; i < n; ++i)
-      on = on &&
-           std::abs(facet.normal.dot(x[std::size_t(facet.nodes[std::size_t(i)])]) - facet.offset) <= facet.tolerance;
+    const bool on = parallel::reduce(
+        Index(n), std::size_t(n) > 8 * boundary_parallel_threshold ? Index(8 * boundary_parallel_threshold) : Index(n),
+        true,
+        [&](Index begin, Index end) {
+          bool in_plane = true;
+          for (Index i = begin; i < end && in_plane; ++i)
+            in_plane = std::abs(facet.normal.dot(x[std::size_t(facet.nodes[std::size_t(i)])]) - facet.offset) <=
+                       facet.tolerance;
+          return in_plane;
+        },
+        [](bool p, bool q) { return p && q; });
     if (!on) off |= std::uint64_t{1} << k;
   }
   return off;
@@ -396,18 +403,23 @@ void BoundarySet::update_normals(std::span<const Vec3> x) {
   if (all) set_reference_facets(x);
   const std::uint64_t off = all ? ~std::uint64_t{0} : facets_off_their_planes(x);
   const std::uint64_t back = all ? 0 : last_off_ & ~off;
-  Index updated = 0;
-  const auto nw = std::ptrdiff_t(wall_nodes_.size());
-#pragma omp parallel for schedule(static) reduction(+ : updated) if (std::size_t(nw) > boundary_parallel_threshold)
-  for (std::ptrdiff_t si = 0; si < nw; ++si) {
-    const std::uint64_t facets = wall_facets_[std::size_t(si)];
-    if (facets & off) {
-      update_wall_node(std::size_t(si), x);
-      ++updated;
-    } else if (facets & back) {
-      restore_reference_node(std::size_t(si), true);
-    }
-  }
+  const auto nw = Index(wall_nodes_.size());
+  Index updated = parallel::reduce(
+      nw, std::size_t(nw) > boundary_parallel_threshold ? Index(boundary_parallel_threshold) : nw, Index{0},
+      [&](Index begin, Index end) {
+        Index count = 0;
+        for (Index si = begin; si < end; ++si) {
+          const std::uint64_t facets = wall_facets_[std::size_t(si)];
+          if (facets & off) {
+            update_wall_node(std::size_t(si), x);
+            ++count;
+          } else if (facets & back) {
+            restore_reference_node(std::size_t(si), true);
+          }
+        }
+        return count;
+      },
+      [](Index p, Index q) { return p + q; });
   for (std::size_t s = 0; s < far_nodes_.size(); ++s) {
     if (far_facets_[s] & off) {
       update_far_node(s, x);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/parallel.h"
 #include "shellflow/fluid/boundary.h"
 
 namespace shellflow::fluid {
@@ -12,6 +13,7 @@ namespace {
 
 /// Boundary passes are cheap per node: worth two threads from a few thousand nodes.
 constexpr std::size_t boundary_parallel_threshold = 2048;
+constexpr Index kBoundaryGrain = 1024;
 
 }  // namespace
 
@@ -162,8 +164,12 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
   // Far field first: on slabs its nodes may be symmetry or wall nodes too, whose normal
   // components the wall pass below then removes.
   const auto nf = std::ptrdiff_t(far_nodes_.size());
-#pragma omp parallel for schedule(static) if (!far_closures && std::size_t(nf) > boundary_parallel_threshold)
-  for (std::ptrdiff_t s = 0; s < nf; ++s) apply_far_field(gas, t, x, w, std::size_t(s), u);
+  // Closures (user expressions) run on the calling thread.
+  parallel::for_range(Index(nf),
+                      !far_closures && std::size_t(nf) > boundary_parallel_threshold ? kBoundaryGrain : Index(nf),
+                      [&](Index begin, Index end) {
+                        for (Index s = begin; s < end; ++s) apply_far_field(gas, t, x, w, std::size_t(s), u);
+                      });
 
   // No-slip: u = u_wall. Isothermal walls reset rho E with the wall temperature and the
   // current rho. Adiabatic walls keep the updated total energy: that is the explicit step of
@@ -187,8 +193,11 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
   }
 
   const auto nw = std::ptrdiff_t(wall_nodes_.size());
-#pragma omp parallel for schedule(static) if (!wall_closures && std::size_t(nw) > boundary_parallel_threshold)
-  for (std::ptrdiff_t s = 0; s < nw; ++s) apply_wall(gas, t, x, std::size_t(s), u);
+  parallel::for_range(Index(nw),
+                      !wall_closures && std::size_t(nw) > boundary_parallel_threshold ? kBoundaryGrain : Index(nw),
+                      [&](Index begin, Index end) {
+                        for (Index s = begin; s < end; ++s) apply_wall(gas, t, x, std::size_t(s), u);
+                      });
 }
 
 }  // namespace shellflow::fluid

@@ -1,7 +1,6 @@
 #include "shellflow/fluid/fluid_model.h"
 
 #include <fmt/format.h>
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -23,8 +22,7 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<Bounda
                     "4-node tetrahedra (Mesh.ElementOrder = 1)",
                     mesh_.name, mesh_.source, mesh::element_info(mesh_.cells.type).short_name));
   const Index nn = mesh_.num_nodes();
-  colours_ =
-      colour_cells(mesh_.cells.connectivity, 4, nn, default_block_size(mesh_.num_cells(), omp_get_max_threads()));
+  colours_ = colour_cells(mesh_.cells.connectivity, 4, nn, default_block_size(mesh_.num_cells()));
   tets_.reserve(mesh_.cells.connectivity.size());
   for (const Index c : colours_.order) {
     const auto cell = mesh_.cells.element(c);
@@ -203,14 +201,15 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   // Mesh velocity of the step (a member: no allocation per step once sized).
   w_next_.resize(std::size_t(nn));
   auto& w_step = w_next_;
-  bool mesh_moves = false;
-#pragma omp parallel for schedule(static) reduction(|| : mesh_moves) if (nn > node_parallel_threshold)
-  for (Index a = 0; a < nn; ++a) {
-    const auto i = std::size_t(a);
-    const Vec3 v = !w.empty() ? w[i] : Vec3((x_next[i] - x_[i]) / dt);
-    w_step[i] = v;
-    mesh_moves = mesh_moves || v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
-  }
+  const bool mesh_moves = reduce_items(
+      nn, parallel::kNodeGrain, node_parallel_threshold, false,
+      [&](Index a) {
+        const auto i = std::size_t(a);
+        const Vec3 v = !w.empty() ? w[i] : Vec3((x_next[i] - x_[i]) / dt);
+        w_step[i] = v;
+        return v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
+      },
+      [](bool p, bool q) { return p || q; });
   lap(timings_.mesh_velocity);
   update_viscosity();
   lap(timings_.viscosity);
@@ -237,21 +236,17 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
                           [&](FluidState& dx) {
                             boundaries_.impose_dirichlet_increments(options_.gas, t_end_of_step, x_next, state_, dx);
                           });
-    for (int v = 0; v < num_variables; ++v) {
-      const auto& u = state_.var[std::size_t(v)];
-      const auto& d = increment_.var[std::size_t(v)];
-      auto& out = next_state_.var[std::size_t(v)];
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-      for (Index a = 0; a < nn; ++a) out[std::size_t(a)] = u[std::size_t(a)] + d[std::size_t(a)];
-    }
+    for_each_node(nn, [&](Index a) {
+      const auto i = std::size_t(a);
+      for (int v = 0; v < num_variables; ++v)
+        next_state_.var[std::size_t(v)][i] = state_.var[std::size_t(v)][i] + increment_.var[std::size_t(v)][i];
+    });
   } else {
-    for (int v = 0; v < num_variables; ++v) {
-      const auto& u = state_.var[std::size_t(v)];
-      const auto& r = residual_.var[std::size_t(v)];
-      auto& out = next_state_.var[std::size_t(v)];
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-      for (Index a = 0; a < nn; ++a) out[std::size_t(a)] = u[std::size_t(a)] + r[std::size_t(a)] / m[std::size_t(a)];
-    }
+    for_each_node(nn, [&](Index a) {
+      const auto i = std::size_t(a);
+      for (int v = 0; v < num_variables; ++v)
+        next_state_.var[std::size_t(v)][i] = state_.var[std::size_t(v)][i] + residual_.var[std::size_t(v)][i] / m[i];
+    });
   }
 
   lap(timings_.update);
@@ -276,16 +271,18 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   constexpr Index chunk = 4096;
   const Index num_chunks = (nn + chunk - 1) / chunk;
   rate_sums_.resize(std::size_t(num_chunks));
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-  for (Index b = 0; b < num_chunks; ++b) {
-    double sum = 0.0;
-    for (Index a = b * chunk; a < std::min(nn, (b + 1) * chunk); ++a) {
-      const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
-                       (local ? nodal_dt_[std::size_t(a)] : dt);
-      sum += d * d;
+  parallel::for_range(nn, nn > node_parallel_threshold ? chunk : nn, [&](Index begin, Index end) {
+    // Threaded: one chunk each; serial: one call for all of them.
+    for (Index b = begin / chunk; b * chunk < end; ++b) {
+      double sum = 0.0;
+      for (Index a = b * chunk; a < std::min(end, (b + 1) * chunk); ++a) {
+        const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
+                         (local ? nodal_dt_[std::size_t(a)] : dt);
+        sum += d * d;
+      }
+      rate_sums_[std::size_t(b)] = sum;
     }
-    rate_sums_[std::size_t(b)] = sum;
-  }
+  });
   double rate2 = 0.0;
   for (const double sum : rate_sums_) rate2 += sum;
   density_rate_ = std::sqrt(rate2 / nn);
@@ -304,14 +301,16 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
 
 void FluidModel::check_positivity(const FluidState& u, double t) const {
   const Index nn = u.size();
-  Index bad = -1;
-#pragma omp parallel for schedule(static) reduction(max : bad) if (nn > node_parallel_threshold)
-  for (Index a = nn - 1; a >= 0; --a) {
-    const auto i = std::size_t(a);
-    const double rho = u.var[0][i];
-    const double p = options_.gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
-    if (!(rho > 0.0) || !(p > 0.0) || !std::isfinite(rho) || !std::isfinite(p)) bad = std::max(bad, a);
-  }
+  // The highest bad node, whatever the thread count.
+  const Index bad = reduce_items(
+      nn, parallel::kNodeGrain, node_parallel_threshold, Index{-1},
+      [&](Index a) {
+        const auto i = std::size_t(a);
+        const double rho = u.var[0][i];
+        const double p = options_.gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
+        return !(rho > 0.0) || !(p > 0.0) || !std::isfinite(rho) || !std::isfinite(p) ? a : Index{-1};
+      },
+      [](Index p, Index q) { return std::max(p, q); });
   if (bad < 0) return;
   const Primitive s = to_primitive(options_.gas, u.get(bad));
   const Vec3& x = x_[std::size_t(bad)];

@@ -31,8 +31,8 @@ void solve_consistent_mass(const ElementLoop& loop, const TetGeometry& g, const 
       auto& d = dx.var[std::size_t(v)];
       const auto& rv = r.var[std::size_t(v)];
       const auto& mc = work.var[std::size_t(v)];
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-      for (Index a = 0; a < nn; ++a) d[std::size_t(a)] += (rv[std::size_t(a)] - mc[std::size_t(a)]) / m[std::size_t(a)];
+      for_each_node(
+          nn, [&](Index a) { d[std::size_t(a)] += (rv[std::size_t(a)] - mc[std::size_t(a)]) / m[std::size_t(a)]; });
     }
     if (reimpose) reimpose(dx);
   }

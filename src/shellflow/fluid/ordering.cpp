@@ -154,9 +154,7 @@ std::vector<Index> renumber_for_locality(mesh::Mesh& m) {
   return new_index;
 }
 
-Index default_block_size(Index num_cells, int max_threads) {
-  return std::clamp<Index>(num_cells / (16 * std::max(1, max_threads)), 256, 8192);
-}
+Index default_block_size(Index num_cells) { return std::clamp<Index>(num_cells / 64, 256, 8192); }
 
 CellColouring colour_cells(std::span<const Index> conn, int npc, Index num_nodes, Index block_size) {
   const auto nc = static_cast<Index>(conn.size() / std::size_t(npc));

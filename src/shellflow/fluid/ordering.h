@@ -41,7 +41,9 @@ struct CellColouring {
 CellColouring colour_cells(std::span<const Index> connectivity, int nodes_per_cell, Index num_nodes,
                            Index block_size = 1);
 
-/// Block size for `num_cells` cells: about 16 blocks per thread, 256 to 8192 cells each.
-Index default_block_size(Index num_cells, int max_threads);
+/// Block size for `num_cells` cells: about 64 blocks, 256 to 8192 cells each. It does not
+/// depend on the thread count, so neither does the order of the element sums (the same bits on
+/// any number of threads): threads take blocks as they come (core/parallel.h).
+Index default_block_size(Index num_cells);
 
 }  // namespace shellflow::fluid

@@ -18,16 +18,15 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
   work.pressure.resize(std::size_t(nn));
   work.speed.resize(std::size_t(nn));
   for (auto& gr : work.gradient) gr.assign(std::size_t(nn), 0.0);
-    // Nodal p and |u| + c once per node (a node is shared by ~24 tetrahedra).
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-  for (Index a = 0; a < nn; ++a) {
+  // Nodal p and |u| + c once per node (a node is shared by ~24 tetrahedra).
+  for_each_node(nn, [&](Index a) {
     const auto i = std::size_t(a);
     const double rho = u.var[0][i];
     const double p = gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
     work.pressure[i] = p;
     work.speed[i] = std::sqrt(u.var[1][i] * u.var[1][i] + u.var[2][i] * u.var[2][i] + u.var[3][i] * u.var[3][i]) / rho +
                     gas.sound_speed(rho, p);
-  }
+  });
   const auto* p = work.pressure.data();
   // 1. Lumped projection of the element pressure gradient to the nodes.
   for_each_element(loop, [&](Index e) {
@@ -43,11 +42,10 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     for (int a = 0; a < 4; ++a)
       for (int j = 0; j < 3; ++j) work.gradient[std::size_t(j)][std::size_t(n[a])] += quarter * gp[j];
   });
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-  for (Index a = 0; a < nn; ++a) {
+  for_each_node(nn, [&](Index a) {
     const double inv_mass = 1.0 / g.lumped_mass[std::size_t(a)];
     for (int j = 0; j < 3; ++j) work.gradient[std::size_t(j)][std::size_t(a)] *= inv_mass;
-  }
+  });
   // 2. Element Laplacian and the sensor-scaled viscosity; with smoothing, scattered at once
   // as V_e nu_e to the nodes (no element array in between).
   const double* gx = work.gradient[0].data();
@@ -70,8 +68,7 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     return q_dif * h * h * h * speed_sum / p_sum * std::abs(lap);
   };
   if (!smoothing) {
-#pragma omp parallel for schedule(static) if (ne > parallel_threshold)
-    for (Index e = 0; e < ne; ++e) nu[std::size_t(e)] = raw_viscosity(std::size_t(e));
+    for_each_element_index(ne, [&](Index e) { nu[std::size_t(e)] = raw_viscosity(std::size_t(e)); });
     return;
   }
   // 3. Nodal smoothing: nu_a = sum V_e nu_e / sum V_e (sum V_e = 4 M_a), nu_e = mean nu_a.
@@ -83,13 +80,11 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     const Index* n = tets.data() + 4 * ue;
     for (int a = 0; a < 4; ++a) nodal[n[a]] += vn;
   });
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-  for (Index a = 0; a < nn; ++a) nodal[a] /= 4.0 * g.lumped_mass[std::size_t(a)];
-#pragma omp parallel for schedule(static) if (ne > parallel_threshold)
-  for (Index e = 0; e < ne; ++e) {
+  for_each_node(nn, [&](Index a) { nodal[a] /= 4.0 * g.lumped_mass[std::size_t(a)]; });
+  for_each_element_index(ne, [&](Index e) {
     const Index* n = tets.data() + 4 * std::size_t(e);
     nu[std::size_t(e)] = 0.25 * (nodal[n[0]] + nodal[n[1]] + nodal[n[2]] + nodal[n[3]]);
-  }
+  });
 }
 
 }  // namespace shellflow::fluid

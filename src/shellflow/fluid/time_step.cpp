@@ -15,34 +15,33 @@ double min_element_time_step(const IdealGas& gas, std::span<const Index> tets, c
   // than per element corner).
   const Index nn = u.size();
   nodal.resize(std::size_t(nn));
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-  for (Index a = 0; a < nn; ++a) {
+  for_each_node(nn, [&](Index a) {
     const auto i = std::size_t(a);
     const double rho = u.var[0][i];
     const double inv_rho = 1.0 / rho;
     const double p = gas.pressure(rho, u.var[1][i], u.var[2][i], u.var[3][i], u.var[4][i]);
     nodal[i] = {u.var[1][i] * inv_rho - w[i].x(), u.var[2][i] * inv_rho - w[i].y(), u.var[3][i] * inv_rho - w[i].z(),
                 std::sqrt(gas.gamma * p * inv_rho)};
-  }
+  });
   const Index ne = g.num_elements();
   if (element_dt) element_dt->resize(std::size_t(ne));
-  double dt_min = std::numeric_limits<double>::infinity();
-#pragma omp parallel for schedule(static) reduction(min : dt_min) if (ne > parallel_threshold)
-  for (Index e = 0; e < ne; ++e) {
-    const auto ue = std::size_t(e);
-    double sum[4] = {0.0, 0.0, 0.0, 0.0};
-    for (int a = 0; a < 4; ++a) {
-      const auto& q = nodal[std::size_t(tets[4 * ue + std::size_t(a)])];
-      for (int j = 0; j < 4; ++j) sum[j] += q[std::size_t(j)];
-    }
-    const double h = g.size[ue];
-    const double speed = 0.25 * (std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) + sum[3]);
-    double dt = h / speed;
-    if (!nu.empty() && nu[ue] > 0.0) dt = std::min(dt, h * h / (2.0 * nu[ue]));
-    if (element_dt) (*element_dt)[ue] = dt;
-    dt_min = std::min(dt_min, dt);
-  }
-  return dt_min;
+  return reduce_items(
+      ne, parallel::kElementGrain, parallel_threshold, std::numeric_limits<double>::infinity(),
+      [&](Index e) {
+        const auto ue = std::size_t(e);
+        double sum[4] = {0.0, 0.0, 0.0, 0.0};
+        for (int a = 0; a < 4; ++a) {
+          const auto& q = nodal[std::size_t(tets[4 * ue + std::size_t(a)])];
+          for (int j = 0; j < 4; ++j) sum[j] += q[std::size_t(j)];
+        }
+        const double h = g.size[ue];
+        const double speed = 0.25 * (std::sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) + sum[3]);
+        double dt = h / speed;
+        if (!nu.empty() && nu[ue] > 0.0) dt = std::min(dt, h * h / (2.0 * nu[ue]));
+        if (element_dt) (*element_dt)[ue] = dt;
+        return dt;
+      },
+      [](double p, double q) { return std::min(p, q); });
 }
 
 }  // namespace shellflow::fluid

@@ -116,8 +116,7 @@ void add_viscous_residual(const IdealGas& gas, double dt, std::span<const double
   const Index nn = u.size();
   q.resize(std::size_t(nn));
   const double gm1 = gas.gamma - 1.0, inv_r = 1.0 / gas.gas_constant;
-#pragma omp parallel for schedule(static) if (nn > node_parallel_threshold)
-  for (Index a = 0; a < nn; ++a) q[std::size_t(a)] = velocity_temperature(gm1, inv_r, u, std::size_t(a));
+  for_each_node(nn, [&](Index a) { q[std::size_t(a)] = velocity_temperature(gm1, inv_r, u, std::size_t(a)); });
   const bool local = !nodal_dt.empty();
   std::array<double*, num_variables> out{};
   for (int v = 0; v < num_variables; ++v) out[std::size_t(v)] = r.var[std::size_t(v)].data();
@@ -174,8 +173,7 @@ void element_diffusivity(const IdealGas& gas, std::span<const Index> tets, const
   out.resize(std::size_t(ne));
   const double factor = std::max(1.0, gas.gamma / gas.viscosity.prandtl);
   const double inv_r = 1.0 / gas.gas_constant;
-#pragma omp parallel for schedule(static) if (ne > parallel_threshold)
-  for (Index e = 0; e < ne; ++e) {
+  for_each_element_index(ne, [&](Index e) {
     const auto ue = std::size_t(e);
     double rho = 0.0, temperature = 0.0;
     for (int a = 0; a < 4; ++a) {
@@ -187,7 +185,7 @@ void element_diffusivity(const IdealGas& gas, std::span<const Index> tets, const
     }
     const double nu = factor * gas.viscosity.dynamic(temperature) / rho;
     out[ue] = (artificial.empty() ? 0.0 : artificial[ue]) + nu;
-  }
+  });
 }
 
 }  // namespace shellflow::fluid

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/parallel.h"
 
 namespace shellflow::motion {
 namespace {
@@ -119,17 +120,18 @@ void SpaceMeshMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
     space_.set_node_motion(space_u_, space_v_);
     const bool velocities = !w.empty();
     const auto n = std::ptrdiff_t(fluid_initial_.size());
-#pragma omp parallel for schedule(static) if (n > 4096)  // ~100 k multiply-adds
-    for (std::ptrdiff_t p = 0; p < n; ++p) {
-      const auto i = std::size_t(p);
-      Vec3 u = Vec3::Zero(), v = Vec3::Zero();
-      for (std::size_t k = 0; k < k_modes; ++k) {
-        u += c[k] * modes_.fluid[k][i];
-        if (velocities) v += dc[k] * modes_.fluid[k][i];
+    parallel::for_range(Index(n), n > 4096 ? 1024 : Index(n), [&](Index begin, Index end) {  // ~100 k multiply-adds
+      for (Index p = begin; p < end; ++p) {
+        const auto i = std::size_t(p);
+        Vec3 u = Vec3::Zero(), v = Vec3::Zero();
+        for (std::size_t k = 0; k < k_modes; ++k) {
+          u += c[k] * modes_.fluid[k][i];
+          if (velocities) v += dc[k] * modes_.fluid[k][i];
+        }
+        x[i] = fluid_initial_[i] + u;
+        if (velocities) w[i] = v;
       }
-      x[i] = fluid_initial_[i] + u;
-      if (velocities) w[i] = v;
-    }
+    });
     return;
   }
   motion_.evaluate(space_handle_, time, iu_, iv_);
@@ -196,27 +198,28 @@ void DirectIdwMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
     if (!w.empty()) w[static_cast<std::size_t>(node)] = Vec3::Zero();
   }
   const auto n = static_cast<std::ptrdiff_t>(free_nodes_.size());
-#pragma omp parallel for schedule(static)
-  for (std::ptrdiff_t f = 0; f < n; ++f) {
-    const auto node = static_cast<std::size_t>(free_nodes_[static_cast<std::size_t>(f)]);
-    const Vec3& p = X[node];
-    Vec3 u = Vec3::Zero(), v = Vec3::Zero();
-    double sum = 0.0;
-    for (std::size_t j = 0; j < boundary_.interface_nodes.size(); ++j) {
-      const double d = (p - X[static_cast<std::size_t>(boundary_.interface_nodes[j])]).norm();
-      const double a = (by_area ? boundary_.interface_areas[j] : 1.0) / std::pow(d, e1_);
-      u += a * iu_[j];
-      v += a * iv_[j];
-      sum += a;
+  parallel::for_range(Index(n), 64, [&](Index begin, Index end) {
+    for (Index f = begin; f < end; ++f) {
+      const auto node = static_cast<std::size_t>(free_nodes_[static_cast<std::size_t>(f)]);
+      const Vec3& p = X[node];
+      Vec3 u = Vec3::Zero(), v = Vec3::Zero();
+      double sum = 0.0;
+      for (std::size_t j = 0; j < boundary_.interface_nodes.size(); ++j) {
+        const double d = (p - X[static_cast<std::size_t>(boundary_.interface_nodes[j])]).norm();
+        const double a = (by_area ? boundary_.interface_areas[j] : 1.0) / std::pow(d, e1_);
+        u += a * iu_[j];
+        v += a * iv_[j];
+        sum += a;
+      }
+      for (std::size_t l = 0; l < boundary_.fixed_nodes.size(); ++l) {
+        const double d = (p - X[static_cast<std::size_t>(boundary_.fixed_nodes[l])]).norm();
+        sum += (by_area ? boundary_.fixed_areas[l] : 1.0) / std::pow(d, e2_);
+      }
+      const auto& normals = free_normals_[static_cast<std::size_t>(f)];
+      x[node] = p + project_on_sliding_planes(u / sum, normals);
+      if (!w.empty()) w[node] = project_on_sliding_planes(v / sum, normals);
     }
-    for (std::size_t l = 0; l < boundary_.fixed_nodes.size(); ++l) {
-      const double d = (p - X[static_cast<std::size_t>(boundary_.fixed_nodes[l])]).norm();
-      sum += (by_area ? boundary_.fixed_areas[l] : 1.0) / std::pow(d, e2_);
-    }
-    const auto& normals = free_normals_[static_cast<std::size_t>(f)];
-    x[node] = p + project_on_sliding_planes(u / sum, normals);
-    if (!w.empty()) w[node] = project_on_sliding_planes(v / sum, normals);
-  }
+  });
 }
 
 std::size_t DirectIdwMover::memory_bytes() const {

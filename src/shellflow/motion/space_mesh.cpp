@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/parallel.h"
 #include "shellflow/fem/quadrature.h"
 #include "shellflow/fem/reference_element.h"
 #include "shellflow/fem/shape_functions.h"
@@ -330,27 +331,33 @@ void SpaceMesh::move(std::span<const Vec3> interface_u, std::span<const Vec3> in
   }
   const std::size_t ns = sample_u.size(), nf = fixed_nodes_.size();
   const auto rows = static_cast<std::ptrdiff_t>(idw_nodes_.size());
-#pragma omp parallel for schedule(static) if (rows * std::ptrdiff_t(2 * ns + nf) > parallel_work_threshold)
-  for (std::ptrdiff_t row = 0; row < rows; ++row) {
-    const auto r = static_cast<std::size_t>(row);
-    const double* a = sample_weights_.data() + r * ns;
-    Vec3 u = Vec3::Zero(), v = Vec3::Zero();
-    for (std::size_t j = 0; j < ns; ++j) {
-      u += a[j] * sample_u[j];
-      v += a[j] * sample_v[j];
-    }
-    if (!fixed_u.empty()) {
-      const double* b = fixed_weights_.data() + r * nf;
-      for (std::size_t l = 0; l < nf; ++l) u += b[l] * fixed_u[l];
-    }
-    const auto node = static_cast<std::size_t>(idw_nodes_[r]);
-    if (classes_[node] == NodeClass::sliding) {
-      u = project_on_sliding_planes(u, sliding_normals_[node]);
-      v = project_on_sliding_planes(v, sliding_normals_[node]);
-    }
-    displacement_[node] = u;
-    velocity_[node] = v;
-  }
+  parallel::for_range(
+      Index(rows),
+      rows * std::ptrdiff_t(2 * ns + nf) > parallel_work_threshold
+          ? Index(std::max<std::ptrdiff_t>(1, parallel_work_threshold / std::ptrdiff_t(2 * ns + nf + 1)))
+          : Index(rows),
+      [&](Index begin, Index end) {
+        for (Index row = begin; row < end; ++row) {
+          const auto r = static_cast<std::size_t>(row);
+          const double* a = sample_weights_.data() + r * ns;
+          Vec3 u = Vec3::Zero(), v = Vec3::Zero();
+          for (std::size_t j = 0; j < ns; ++j) {
+            u += a[j] * sample_u[j];
+            v += a[j] * sample_v[j];
+          }
+          if (!fixed_u.empty()) {
+            const double* b = fixed_weights_.data() + r * nf;
+            for (std::size_t l = 0; l < nf; ++l) u += b[l] * fixed_u[l];
+          }
+          const auto node = static_cast<std::size_t>(idw_nodes_[r]);
+          if (classes_[node] == NodeClass::sliding) {
+            u = project_on_sliding_planes(u, sliding_normals_[node]);
+            v = project_on_sliding_planes(v, sliding_normals_[node]);
+          }
+          displacement_[node] = u;
+          velocity_[node] = v;
+        }
+      });
 }
 
 void SpaceMesh::set_node_motion(std::span<const Vec3> u, std::span<const Vec3> v) {
@@ -369,24 +376,27 @@ template <int R>
 void interpolate_records(const double* records, const Index* connectivity, std::span<const NodeLocation> locations,
                          std::span<const Vec3> initial, std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) {
   const auto n = static_cast<std::ptrdiff_t>(locations.size());
-#pragma omp parallel for schedule(static) if (n * kNodes * R > parallel_work_threshold)
-  for (std::ptrdiff_t p = 0; p < n; ++p) {
-    const NodeLocation& loc = locations[static_cast<std::size_t>(p)];
-    const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
-    double acc[R] = {};
-    for (int a = 0; a < kNodes; ++a) {
-      const double* r = records + R * static_cast<std::ptrdiff_t>(nodes[a]);
-      const double N = loc.shape[static_cast<std::size_t>(a)];
-      for (int i = 0; i < R; ++i) acc[i] += N * r[i];
-    }
-    if (initial.empty()) {
-      fluid_x[static_cast<std::size_t>(p)] = Vec3(acc[0], acc[1], acc[2]);
-    } else {
-      const Vec3& X = initial[static_cast<std::size_t>(p)];
-      fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
-    }
-    if constexpr (R == 6) fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
-  }
+  parallel::for_range(
+      Index(n), n * kNodes * R > parallel_work_threshold ? Index(parallel_work_threshold / (kNodes * R)) : Index(n),
+      [&](Index begin, Index end) {
+        for (Index p = begin; p < end; ++p) {
+          const NodeLocation& loc = locations[static_cast<std::size_t>(p)];
+          const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
+          double acc[R] = {};
+          for (int a = 0; a < kNodes; ++a) {
+            const double* r = records + R * static_cast<std::ptrdiff_t>(nodes[a]);
+            const double N = loc.shape[static_cast<std::size_t>(a)];
+            for (int i = 0; i < R; ++i) acc[i] += N * r[i];
+          }
+          if (initial.empty()) {
+            fluid_x[static_cast<std::size_t>(p)] = Vec3(acc[0], acc[1], acc[2]);
+          } else {
+            const Vec3& X = initial[static_cast<std::size_t>(p)];
+            fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
+          }
+          if constexpr (R == 6) fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
+        }
+      });
 }
 
 }  // namespace

@@ -120,11 +120,8 @@ RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options, 
           "{}: written by another build of shellflow {}; the continuation may differ from an "
           "uninterrupted run in the last bits",
           restart_->file.string(), then.program_version);
-    if (then.threads != now.threads)
-      spdlog::warn(
-          "{}: written with {} OpenMP thread(s), this run has {}; the flow may differ from an "
-          "uninterrupted run in the last bits (set OMP_NUM_THREADS={})",
-          restart_->file.string(), then.threads, now.threads, then.threads);
+    // The thread count is recorded but not compared: the run's sums do not depend on it
+    // (core/parallel.h).
     if (then.simd != now.simd)
       spdlog::warn(
           "{}: written with the {} element pass, this run uses {}; the flow may differ from an "

@@ -4,6 +4,7 @@
 #include "shellflow/shell/shell_model.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <numbers>
 #include <string_view>
@@ -230,7 +231,7 @@ void ShellModel::scatter(Index e, const double* Ke, int nd, SparseMatrix& K) con
 bool ShellModel::assemble(const Eigen::VectorXd& u, Eigen::VectorXd& f_int, SparseMatrix* K) const {
   f_int.setZero(num_dofs());
   if (K) std::fill(K->valuePtr(), K->valuePtr() + K->nonZeros(), 0.0);
-  int admissible = 1;
+  std::atomic<bool> admissible = true;
   std::visit(
       [&](const auto& set) {
         using Geometry = std::decay_t<decltype(set.geometry.front())>;
@@ -246,10 +247,7 @@ bool ShellModel::assemble(const Eigen::VectorXd& u, Eigen::VectorXd& f_int, Spar
           thread_local Eigen::Matrix<double, nd, nd> Ke;
           const bool ok = internal_force(set.geometry[static_cast<std::size_t>(e)], set.rule, section_.material, ue, fe,
                                          K ? &Ke : nullptr);
-          if (!ok) {
-#pragma omp atomic write
-            admissible = 0;
-          }
+          if (!ok) admissible.store(false, std::memory_order_relaxed);
           for (int j = 0; j < N; ++j)
             f_int.segment<dofs_per_node>(dofs_per_node * conn[static_cast<std::size_t>(j)]) +=
                 fe.template segment<dofs_per_node>(dofs_per_node * j);
@@ -257,7 +255,7 @@ bool ShellModel::assemble(const Eigen::VectorXd& u, Eigen::VectorXd& f_int, Spar
         });
       },
       elements_);
-  return admissible != 0;
+  return admissible.load();
 }
 
 double ShellModel::strain_energy(const Eigen::VectorXd& u) const {
