@@ -13,24 +13,24 @@ if(EXISTS /usr/bin/python3 AND NOT Python3_EXECUTABLE)
 endif()
 find_package(Python3 REQUIRED COMPONENTS Interpreter)
 
-# Debian's libgmsh-dev ships gmsh.h and libgmsh.so but no CMake package.
-find_path(GMSH_INCLUDE_DIR gmsh.h REQUIRED)
-find_library(GMSH_LIBRARY gmsh REQUIRED)
-add_library(Gmsh::gmsh UNKNOWN IMPORTED)
-set_target_properties(Gmsh::gmsh PROPERTIES
-  IMPORTED_LOCATION "${GMSH_LIBRARY}"
-  INTERFACE_INCLUDE_DIRECTORIES "${GMSH_INCLUDE_DIR}")
+# A Debian library that ships its header and shared library but no CMake package: the
+# IMPORTED target `target` (<PREFIX>_INCLUDE_DIR and <PREFIX>_LIBRARY are cached).
+function(shellflow_import_library target prefix header library)
+  find_path(${prefix}_INCLUDE_DIR ${header} REQUIRED)
+  find_library(${prefix}_LIBRARY ${library} REQUIRED)
+  add_library(${target} UNKNOWN IMPORTED GLOBAL)
+  set_target_properties(${target} PROPERTIES
+    IMPORTED_LOCATION "${${prefix}_LIBRARY}"
+    INTERFACE_INCLUDE_DIRECTORIES "${${prefix}_INCLUDE_DIR}")
+endfunction()
+
+# Debian's libgmsh-dev ships gmsh.h and libgmsh.so.
+shellflow_import_library(Gmsh::gmsh GMSH gmsh.h gmsh)
 # Gmsh's executable is not needed at run time (the library meshes), but tests use
 # it nowhere either; find it only to report it.
 find_program(GMSH_EXECUTABLE gmsh)
-
-# Debian's libmetis-dev (METIS 5.1, serial) ships metis.h and libmetis.so but no CMake package.
-find_path(METIS_INCLUDE_DIR metis.h REQUIRED)
-find_library(METIS_LIBRARY metis REQUIRED)
-add_library(METIS::metis UNKNOWN IMPORTED)
-set_target_properties(METIS::metis PROPERTIES
-  IMPORTED_LOCATION "${METIS_LIBRARY}"
-  INTERFACE_INCLUDE_DIRECTORIES "${METIS_INCLUDE_DIR}")
+# Debian's libmetis-dev (METIS 5.1, serial): partitions of the fluid mesh (mesh/partition.h).
+shellflow_import_library(METIS::metis METIS metis.h metis)
 
 if(SHELLFLOW_BUILD_TESTS)
   find_package(GTest REQUIRED)
