@@ -20,6 +20,7 @@
 #include <exception>
 #include <map>
 #include <string>
+#include <string_view>
 
 #include "commands.h"
 #include "shellflow/core/error.h"
@@ -177,6 +178,18 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(cli, argc, argv);
   spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
+  // Started by mpirun with several ranks: every rank would run the whole case into one folder.
+  // OpenMPI's and MPICH's launchers say so in the environment (MPI is not started for it).
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* ranks = std::getenv(name); ranks && std::atol(ranks) > 1) {
+      const char* rank = std::getenv(std::string_view(name).starts_with("OMPI") ? "OMPI_COMM_WORLD_RANK" : "PMI_RANK");
+      if (!rank || std::atol(rank) == 0)
+        std::fprintf(stderr,
+                     "shellflow: error: started as %s MPI ranks; runs distributed over ranks are not available yet "
+                     "(docs/parallel.md): run shellflow without mpirun (its threads use the machine's cores)\n",
+                     ranks);
+      return 1;
+    }
   try {
     // A bad SHELLFLOW_SIMD is refused before anything is read or meshed.
     spdlog::debug("element pass: {}", fluid::to_string(fluid::simd_path()));

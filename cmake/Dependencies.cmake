@@ -6,6 +6,10 @@ find_package(fmt REQUIRED)
 find_package(spdlog REQUIRED)
 find_package(nanoflann REQUIRED)
 find_package(OpenMP REQUIRED COMPONENTS CXX)
+# OpenMPI 4.1 (libopenmpi-dev, openmpi-bin): the ranks of a distributed run (dist/). Its C API
+# from C++ (the project enables no C compiler; the deprecated C++ bindings are skipped).
+set(MPI_CXX_SKIP_MPICXX ON)
+find_package(MPI REQUIRED COMPONENTS CXX)
 # Plots and the independent VTU reader in the tests use Debian's Python (matplotlib,
 # meshio come from Debian packages), not whatever python3 is first on PATH.
 if(EXISTS /usr/bin/python3 AND NOT Python3_EXECUTABLE)

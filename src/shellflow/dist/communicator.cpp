@@ -1,0 +1,109 @@
+#include "shellflow/dist/communicator.h"
+
+#include <mpi.h>
+
+#include "shellflow/core/error.h"
+
+namespace shellflow::dist {
+namespace {
+
+void check(int code, const char* what) {
+  if (code == MPI_SUCCESS) return;
+  char text[MPI_MAX_ERROR_STRING];
+  int length = 0;
+  MPI_Error_string(code, text, &length);
+  throw Error(std::string("MPI: ") + what + ": " + std::string(text, std::size_t(length)));
+}
+
+/// MPI_Finalize when the process ends normally (a static's destructor).
+struct Finaliser {
+  ~Finaliser() {
+    int initialised = 0, finalised = 0;
+    MPI_Initialized(&initialised);
+    MPI_Finalized(&finalised);
+    if (initialised && !finalised) MPI_Finalize();
+  }
+};
+
+}  // namespace
+
+Communicator::Communicator() {
+  int initialised = 0;
+  check(MPI_Initialized(&initialised), "MPI_Initialized");
+  if (!initialised) {
+    int provided = 0;
+    check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+    static Finaliser finaliser;
+  }
+  check(MPI_Comm_rank(MPI_COMM_WORLD, &rank_), "MPI_Comm_rank");
+  check(MPI_Comm_size(MPI_COMM_WORLD, &size_), "MPI_Comm_size");
+}
+
+Communicator& Communicator::world() {
+  static Communicator world;
+  return world;
+}
+
+double Communicator::min(double value) const {
+  double out = value;
+  check(MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce (min)");
+  return out;
+}
+
+double Communicator::max(double value) const {
+  double out = value;
+  check(MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce (max)");
+  return out;
+}
+
+long Communicator::sum(long value) const {
+  long out = value;
+  check(MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce (sum)");
+  return out;
+}
+
+bool Communicator::any(bool value) const {
+  int in = value ? 1 : 0, out = 0;
+  check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce (or)");
+  return out != 0;
+}
+
+std::vector<double> Communicator::all_gather(const std::vector<double>& values) const {
+  const int count = static_cast<int>(values.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_) + 1, 0);
+  check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, MPI_COMM_WORLD), "MPI_Allgather (counts)");
+  for (std::size_t r = 0; r < counts.size(); ++r) offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<double> out(std::size_t(offsets.back()));
+  check(MPI_Allgatherv(values.data(), count, MPI_DOUBLE, out.data(), counts.data(), offsets.data(), MPI_DOUBLE,
+                       MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+  return out;
+}
+
+double Communicator::sum_in_rank_order(double value) const {
+  double total = 0.0;
+  for (const double v : all_gather({value})) total += v;
+  return total;
+}
+
+void Communicator::broadcast(std::string& text, int root) const {
+  long length = static_cast<long>(text.size());
+  check(MPI_Bcast(&length, 1, MPI_LONG, root, MPI_COMM_WORLD), "MPI_Bcast (length)");
+  text.resize(std::size_t(length));
+  if (length > 0) check(MPI_Bcast(text.data(), int(length), MPI_CHAR, root, MPI_COMM_WORLD), "MPI_Bcast");
+}
+
+void Communicator::barrier() const { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }
+
+std::string Communicator::first_error(const std::string& mine) const {
+  // The lowest rank with an error, then its message from there.
+  const int candidate = mine.empty() ? size_ : rank_;
+  int first = candidate;
+  check(MPI_Allreduce(&candidate, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce (errors)");
+  if (first == size_) return {};
+  std::string message = rank_ == first ? mine : std::string();
+  broadcast(message, first);
+  return message;
+}
+
+}  // namespace shellflow::dist

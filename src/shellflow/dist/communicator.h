@@ -1,0 +1,49 @@
+#pragma once
+// The MPI ranks of a distributed run (docs/parallel.md): the world communicator, reductions
+// whose results do not depend on the number of ranks where they feed the solution, and an
+// agreement on errors so that an error on one rank ends every rank with the same line.
+//
+// MPI is initialised on first use of Communicator::world() (MPI_THREAD_FUNNELED: only the
+// thread that calls these functions talks to MPI; the thread pool of core/parallel.h stays
+// inside a rank) and finalised when the process exits normally. Without mpirun it is one rank
+// (OpenMPI's singleton start).
+#include <string>
+#include <vector>
+
+namespace shellflow::dist {
+
+class Communicator {
+ public:
+  /// MPI_COMM_WORLD (initialises MPI on the first call).
+  static Communicator& world();
+
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  /// Smallest / largest of the ranks' values (exact: the same on any rank count).
+  double min(double value) const;
+  double max(double value) const;
+  long sum(long value) const;  ///< integer sum (exact)
+  bool any(bool value) const;  ///< logical or
+  /// Sum of one double per rank, added in rank order on every rank (the same bits on every
+  /// rank; for bits independent of the rank count, sum per fixed chunk first).
+  double sum_in_rank_order(double value) const;
+  /// Every rank's values, concatenated in rank order.
+  std::vector<double> all_gather(const std::vector<double>& values) const;
+  /// `text` of rank `root` on every rank.
+  void broadcast(std::string& text, int root = 0) const;
+  void barrier() const;
+
+  /// Called by every rank at the same point with its error message ("" = none). Returns ""
+  /// when no rank has an error, else the message of the lowest rank that has one, on every
+  /// rank: each rank then throws the same error and the run ends on all of them (no rank is
+  /// left waiting in a collective).
+  std::string first_error(const std::string& mine) const;
+
+ private:
+  Communicator();
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+}  // namespace shellflow::dist
