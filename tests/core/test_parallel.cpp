@@ -155,7 +155,8 @@ TEST(ParallelFor, ThreadSlotsAreDistinctWithinALoop) {
   int total = 0;
   for (const auto& s : seen) total += s.load();
   EXPECT_EQ(total, 3000);
-  EXPECT_GT(seen[0].load(), 0) << "the caller takes chunks too";
+  // Which thread takes how many chunks is up to the scheduler (under a sanitizer the workers
+  // may take them all before the caller claims one): not asserted.
 }
 
 }  // namespace
