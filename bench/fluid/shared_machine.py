@@ -8,8 +8,8 @@ the end), and prints the medians and the ratios to the one-thread run of the sam
 usage: /usr/bin/python3 bench/fluid/shared_machine.py [--exe build/release/app/shellflow]
        [--end 0.005] [--repeat 3] [--env KEY=VALUE ...]
 
---env adds variables to every timed run (e.g. --env OMP_WAIT_POLICY=active to time libgomp's own
-default spinning policy against shellflow's passive default). Each configuration runs --repeat
+--env adds variables to every timed run (e.g. --env SHELLFLOW_SPIN_US=50 to time another spin
+time of the thread pool, core/parallel.h; default 20 microseconds). Each configuration runs --repeat
 times, interleaved, and the median is reported (the machine is shared and noisy).
 """
 import argparse
@@ -50,7 +50,8 @@ def main():
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--env", action="append", default=[], help="KEY=VALUE for every run")
     args = parser.parse_args()
-    base = {k: v for k, v in os.environ.items() if k not in ("OMP_NUM_THREADS", "OMP_WAIT_POLICY", "GOMP_SPINCOUNT")}
+    base = {k: v for k, v in os.environ.items()
+            if k not in ("OMP_NUM_THREADS", "OMP_WAIT_POLICY", "GOMP_SPINCOUNT", "SHELLFLOW_SPIN_US")}
     for kv in args.env:
         key, _, value = kv.partition("=")
         base[key] = value
