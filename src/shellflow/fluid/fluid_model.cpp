@@ -142,15 +142,23 @@ void FluidModel::check_cfl(double cfl) const {
 void FluidModel::update_viscosity() {
   if (viscosity_valid_) return;
   compute_artificial_viscosity(options_.gas, options_.q_dif, options_.av_smoothing, loop(), geometry_, state_, av_work_,
-                               viscosity_);
+                               viscosity_, distribution_.exchange);
   viscosity_valid_ = true;
 }
 
 double FluidModel::stable_dt(double cfl) {
   check_cfl(cfl);
   update_viscosity();
-  return cfl *
-         min_element_time_step(options_.gas, tets_, geometry_, state_, w_, time_step_diffusivity(), time_step_work_);
+  const double dt =
+      min_element_time_step(options_.gas, tets_, geometry_, state_, w_, time_step_diffusivity(), time_step_work_);
+  return cfl * (distribution_.min ? distribution_.min(dt) : dt);
+}
+
+void FluidModel::set_distribution(Distribution distribution) {
+  if (options_.consistent_mass_iterations > 0)
+    throw InputError("a distributed flow has lumped mass only (fluid.consistent_mass_iterations = 0)");
+  distribution_ = std::move(distribution);
+  viscosity_valid_ = false;
 }
 
 std::span<const double> FluidModel::time_step_diffusivity() {
@@ -258,6 +266,11 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     lap(timings_.normals);
   }
   boundaries_.apply(options_.gas, t_next, x_next, w_step, next_state_);
+  if (distribution_.exchange) {
+    double* fields[num_variables];
+    for (int v = 0; v < num_variables; ++v) fields[v] = next_state_.var[std::size_t(v)].data();
+    distribution_.exchange(fields);
+  }
   lap(timings_.boundary);
   try {
     check_positivity(next_state_, t_next);

@@ -140,6 +140,20 @@ class FluidModel {
   /// (fluid.md §4.3); fixed mesh. time() advances by the smallest step.
   void step_local(double cfl);
 
+  /// A rank's part of a distributed mesh (docs/parallel.md): the model's mesh is the rank's
+  /// local mesh (owned nodes, then ghosts; every cell of an owned node). `exchange` sets the
+  /// ghost entries of nodal fields from their owners; it is called after the artificial
+  /// viscosity's gradient recovery and smoothing and on the new state after the boundary
+  /// conditions, so every owned node advances as in one process. `min` is the minimum over
+  /// the ranks (the stable time step). Lumped mass only; the density-rate monitor stays local.
+  /// Every rank must call step and stable_dt in the same order.
+  struct Distribution {
+    GhostExchange exchange;
+    std::function<double(double)> min;
+  };
+  /// Throws InputError with consistent mass (its sweeps would need an exchange each).
+  void set_distribution(Distribution distribution);
+
   /// RMS over the nodes of d(rho)/dt in the last step (steady convergence monitor).
   double density_rate() const { return density_rate_; }
 
@@ -233,6 +247,7 @@ class FluidModel {
   std::vector<double> rate_sums_;  // partial sums of the density-rate monitor
   double density_rate_ = 0.0;
   StepTimings timings_;
+  Distribution distribution_;
   bool viscosity_valid_ = false;
   double time_ = 0.0;
   long steps_ = 0;

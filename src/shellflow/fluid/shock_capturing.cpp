@@ -6,7 +6,7 @@ namespace shellflow::fluid {
 
 void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smoothing, const ElementLoop& loop,
                                   const TetGeometry& g, const FluidState& u, ShockCapturingWorkspace& work,
-                                  std::vector<double>& nu) {
+                                  std::vector<double>& nu, const GhostExchange& exchange) {
   const Index ne = g.num_elements();
   const Index nn = u.size();
   if (q_dif <= 0.0) {
@@ -46,6 +46,10 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     const double inv_mass = 1.0 / g.lumped_mass[std::size_t(a)];
     for (int j = 0; j < 3; ++j) work.gradient[std::size_t(j)][std::size_t(a)] *= inv_mass;
   });
+  if (exchange) {
+    double* fields[3] = {work.gradient[0].data(), work.gradient[1].data(), work.gradient[2].data()};
+    exchange(fields);
+  }
   // 2. Element Laplacian and the sensor-scaled viscosity; with smoothing, scattered at once
   // as V_e nu_e to the nodes (no element array in between).
   const double* gx = work.gradient[0].data();
@@ -81,6 +85,10 @@ void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smooth
     for (int a = 0; a < 4; ++a) nodal[n[a]] += vn;
   });
   for_each_node(nn, [&](Index a) { nodal[a] /= 4.0 * g.lumped_mass[std::size_t(a)]; });
+  if (exchange) {
+    double* fields[1] = {nodal};
+    exchange(fields);
+  }
   for_each_element_index(ne, [&](Index e) {
     const Index* n = tets.data() + 4 * std::size_t(e);
     nu[std::size_t(e)] = 0.25 * (nodal[n[0]] + nodal[n[1]] + nodal[n[2]] + nodal[n[3]]);

@@ -4,6 +4,7 @@
 // with lap p recovered from a lumped projection of the element pressure gradients and,
 // by default, smoothed over one element layer (nodal volume average, then element mean).
 #include <array>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -21,9 +22,15 @@ struct ShockCapturingWorkspace {
   std::vector<double> nodal_viscosity;          // sum V_e nu_e, then nu_a
 };
 
-/// Element artificial viscosities for state u (zero everywhere when q_dif = 0).
+/// Sets the ghost-node entries of nodal fields from their owners (a rank's part of a
+/// distributed mesh, docs/parallel.md); empty in one process.
+using GhostExchange = std::function<void(std::span<double* const> fields)>;
+
+/// Element artificial viscosities for state u (zero everywhere when q_dif = 0). On a rank's
+/// part, `exchange` makes the recovered nodal gradient and the smoothed nodal viscosity those
+/// of the owners before elements use them.
 void compute_artificial_viscosity(const IdealGas& gas, double q_dif, bool smoothing, const ElementLoop& loop,
                                   const TetGeometry& geometry, const FluidState& u, ShockCapturingWorkspace& work,
-                                  std::vector<double>& element_viscosity);
+                                  std::vector<double>& element_viscosity, const GhostExchange& exchange = {});
 
 }  // namespace shellflow::fluid
