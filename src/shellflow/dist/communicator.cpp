@@ -44,28 +44,24 @@ Communicator& Communicator::world() {
   return world;
 }
 
-double Communicator::min(double value) const {
-  double out = value;
-  check(MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce (min)");
+namespace {
+/// op over the ranks' values of one number.
+template <class T>
+T all_reduce(T value, MPI_Datatype type, MPI_Op op, const char* what) {
+  T out = value;
+  check(MPI_Allreduce(&value, &out, 1, type, op, MPI_COMM_WORLD), what);
   return out;
 }
+}  // namespace
 
-double Communicator::max(double value) const {
-  double out = value;
-  check(MPI_Allreduce(&value, &out, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD), "MPI_Allreduce (max)");
-  return out;
-}
+double Communicator::min(double value) const { return all_reduce(value, MPI_DOUBLE, MPI_MIN, "MPI_Allreduce (min)"); }
 
-long Communicator::sum(long value) const {
-  long out = value;
-  check(MPI_Allreduce(&value, &out, 1, MPI_LONG, MPI_SUM, MPI_COMM_WORLD), "MPI_Allreduce (sum)");
-  return out;
-}
+double Communicator::max(double value) const { return all_reduce(value, MPI_DOUBLE, MPI_MAX, "MPI_Allreduce (max)"); }
+
+long Communicator::sum(long value) const { return all_reduce(value, MPI_LONG, MPI_SUM, "MPI_Allreduce (sum)"); }
 
 bool Communicator::any(bool value) const {
-  int in = value ? 1 : 0, out = 0;
-  check(MPI_Allreduce(&in, &out, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce (or)");
-  return out != 0;
+  return all_reduce(value ? 1 : 0, MPI_INT, MPI_LOR, "MPI_Allreduce (or)") != 0;
 }
 
 std::vector<double> Communicator::all_gather(const std::vector<double>& values) const {
@@ -97,9 +93,7 @@ void Communicator::barrier() const { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Bar
 
 std::string Communicator::first_error(const std::string& mine) const {
   // The lowest rank with an error, then its message from there.
-  const int candidate = mine.empty() ? size_ : rank_;
-  int first = candidate;
-  check(MPI_Allreduce(&candidate, &first, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD), "MPI_Allreduce (errors)");
+  const int first = all_reduce(mine.empty() ? size_ : rank_, MPI_INT, MPI_MIN, "MPI_Allreduce (errors)");
   if (first == size_) return {};
   std::string message = rank_ == first ? mine : std::string();
   broadcast(message, first);
