@@ -51,6 +51,10 @@ void for_each_chunk(Index chunks, Body&& body) {
       chunks, [](const void* c, Index k) { (*static_cast<const std::remove_reference_t<Body>*>(c))(k); }, &body);
 }
 
+/// The grain of a loop over n items that runs threaded only when `threaded`: `grain`, else n
+/// (one chunk: the loop runs on the calling thread).
+inline Index grain_if(bool threaded, Index grain, Index n) { return threaded ? grain : std::max<Index>(n, 1); }
+
 /// Number of chunks of `grain` items that cover n items.
 inline Index num_chunks(Index n, Index grain) { return n <= 0 ? 0 : (n + grain - 1) / std::max<Index>(grain, 1); }
 

@@ -20,11 +20,6 @@ class HaloExchange {
   /// For every field (one value per local node, part.nodes order): the ghost entries set
   /// from their owners' owned entries. Every rank calls it with the same number of fields.
   void exchange(std::span<double* const> fields);
-  /// The same for one field.
-  void exchange(std::vector<double>& field) {
-    double* f = field.data();
-    exchange(std::span<double* const>(&f, 1));
-  }
 
   std::size_t num_neighbours() const { return neighbours_.size(); }
   /// Values sent per field and exchange (the interface of this rank).

@@ -326,7 +326,9 @@ std::uint64_t BoundarySet::facets_off_their_planes(std::span<const Vec3> x) cons
     const Facet& facet = facets_[k];
     const auto n = std::ptrdiff_t(facet.nodes.size());
     const bool on = parallel::reduce(
-        Index(n), std::size_t(n) > 8 * boundary_parallel_threshold ? Index(8 * boundary_parallel_threshold) : Index(n),
+        Index(n),
+        parallel::grain_if(std::size_t(n) > 8 * boundary_parallel_threshold, Index(8 * boundary_parallel_threshold),
+                           Index(n)),
         true,
         [&](Index begin, Index end) {
           bool in_plane = true;
@@ -405,7 +407,8 @@ void BoundarySet::update_normals(std::span<const Vec3> x) {
   const std::uint64_t back = all ? 0 : last_off_ & ~off;
   const auto nw = Index(wall_nodes_.size());
   Index updated = parallel::reduce(
-      nw, std::size_t(nw) > boundary_parallel_threshold ? Index(boundary_parallel_threshold) : nw, Index{0},
+      nw, parallel::grain_if(std::size_t(nw) > boundary_parallel_threshold, Index(boundary_parallel_threshold), nw),
+      Index{0},
       [&](Index begin, Index end) {
         Index count = 0;
         for (Index si = begin; si < end; ++si) {

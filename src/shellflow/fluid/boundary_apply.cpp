@@ -165,11 +165,12 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
   // components the wall pass below then removes.
   const auto nf = std::ptrdiff_t(far_nodes_.size());
   // Closures (user expressions) run on the calling thread.
-  parallel::for_range(Index(nf),
-                      !far_closures && std::size_t(nf) > boundary_parallel_threshold ? kBoundaryGrain : Index(nf),
-                      [&](Index begin, Index end) {
-                        for (Index s = begin; s < end; ++s) apply_far_field(gas, t, x, w, std::size_t(s), u);
-                      });
+  parallel::for_range(
+      Index(nf),
+      parallel::grain_if(!far_closures && std::size_t(nf) > boundary_parallel_threshold, kBoundaryGrain, Index(nf)),
+      [&](Index begin, Index end) {
+        for (Index s = begin; s < end; ++s) apply_far_field(gas, t, x, w, std::size_t(s), u);
+      });
 
   // No-slip: u = u_wall. Isothermal walls reset rho E with the wall temperature and the
   // current rho. Adiabatic walls keep the updated total energy: that is the explicit step of
@@ -193,11 +194,12 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
   }
 
   const auto nw = std::ptrdiff_t(wall_nodes_.size());
-  parallel::for_range(Index(nw),
-                      !wall_closures && std::size_t(nw) > boundary_parallel_threshold ? kBoundaryGrain : Index(nw),
-                      [&](Index begin, Index end) {
-                        for (Index s = begin; s < end; ++s) apply_wall(gas, t, x, std::size_t(s), u);
-                      });
+  parallel::for_range(
+      Index(nw),
+      parallel::grain_if(!wall_closures && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, Index(nw)),
+      [&](Index begin, Index end) {
+        for (Index s = begin; s < end; ++s) apply_wall(gas, t, x, std::size_t(s), u);
+      });
 }
 
 }  // namespace shellflow::fluid

@@ -57,18 +57,20 @@ void for_each_element(const ElementLoop& loop, Body&& body) {
 /// parallel::kNodeGrain; serial below node_parallel_threshold.
 template <class Body>
 void for_each_node(Index n, Body&& body) {
-  parallel::for_range(n, n > node_parallel_threshold ? parallel::kNodeGrain : n, [&](Index begin, Index end) {
-    for (Index a = begin; a < end; ++a) body(a);
-  });
+  parallel::for_range(n, parallel::grain_if(n > node_parallel_threshold, parallel::kNodeGrain, n),
+                      [&](Index begin, Index end) {
+                        for (Index a = begin; a < end; ++a) body(a);
+                      });
 }
 
 /// Calls body(e) for every element e in [0, n) that writes only element e's entries, in
 /// chunks of parallel::kElementGrain; serial below parallel_threshold.
 template <class Body>
 void for_each_element_index(Index n, Body&& body) {
-  parallel::for_range(n, n > parallel_threshold ? parallel::kElementGrain : n, [&](Index begin, Index end) {
-    for (Index e = begin; e < end; ++e) body(e);
-  });
+  parallel::for_range(n, parallel::grain_if(n > parallel_threshold, parallel::kElementGrain, n),
+                      [&](Index begin, Index end) {
+                        for (Index e = begin; e < end; ++e) body(e);
+                      });
 }
 
 /// op over value(a) of the items a in [0, n), chunks of `grain` (serial below `threshold`
@@ -76,7 +78,7 @@ void for_each_element_index(Index n, Body&& body) {
 template <class T, class Value, class Op>
 T reduce_items(Index n, Index grain, Index threshold, T identity, Value&& value, Op&& op) {
   return parallel::reduce(
-      n, n > threshold ? grain : n, identity,
+      n, parallel::grain_if(n > threshold, grain, n), identity,
       [&](Index begin, Index end) {
         T r = identity;
         for (Index a = begin; a < end; ++a) r = op(r, value(a));

@@ -284,7 +284,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   constexpr Index chunk = 4096;
   const Index num_chunks = (nn + chunk - 1) / chunk;
   rate_sums_.resize(std::size_t(num_chunks));
-  parallel::for_range(nn, nn > node_parallel_threshold ? chunk : nn, [&](Index begin, Index end) {
+  parallel::for_range(nn, parallel::grain_if(nn > node_parallel_threshold, chunk, nn), [&](Index begin, Index end) {
     // Threaded: one chunk each; serial: one call for all of them.
     for (Index b = begin / chunk; b * chunk < end; ++b) {
       double sum = 0.0;

@@ -120,18 +120,19 @@ void SpaceMeshMover::update(double time, std::span<Vec3> x, std::span<Vec3> w) {
     space_.set_node_motion(space_u_, space_v_);
     const bool velocities = !w.empty();
     const auto n = std::ptrdiff_t(fluid_initial_.size());
-    parallel::for_range(Index(n), n > 4096 ? 1024 : Index(n), [&](Index begin, Index end) {  // ~100 k multiply-adds
-      for (Index p = begin; p < end; ++p) {
-        const auto i = std::size_t(p);
-        Vec3 u = Vec3::Zero(), v = Vec3::Zero();
-        for (std::size_t k = 0; k < k_modes; ++k) {
-          u += c[k] * modes_.fluid[k][i];
-          if (velocities) v += dc[k] * modes_.fluid[k][i];
-        }
-        x[i] = fluid_initial_[i] + u;
-        if (velocities) w[i] = v;
-      }
-    });
+    parallel::for_range(Index(n), parallel::grain_if(n > 4096, 1024, Index(n)),
+                        [&](Index begin, Index end) {  // ~100 k multiply-adds
+                          for (Index p = begin; p < end; ++p) {
+                            const auto i = std::size_t(p);
+                            Vec3 u = Vec3::Zero(), v = Vec3::Zero();
+                            for (std::size_t k = 0; k < k_modes; ++k) {
+                              u += c[k] * modes_.fluid[k][i];
+                              if (velocities) v += dc[k] * modes_.fluid[k][i];
+                            }
+                            x[i] = fluid_initial_[i] + u;
+                            if (velocities) w[i] = v;
+                          }
+                        });
     return;
   }
   motion_.evaluate(space_handle_, time, iu_, iv_);

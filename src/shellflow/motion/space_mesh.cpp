@@ -333,9 +333,9 @@ void SpaceMesh::move(std::span<const Vec3> interface_u, std::span<const Vec3> in
   const auto rows = static_cast<std::ptrdiff_t>(idw_nodes_.size());
   parallel::for_range(
       Index(rows),
-      rows * std::ptrdiff_t(2 * ns + nf) > parallel_work_threshold
-          ? Index(std::max<std::ptrdiff_t>(1, parallel_work_threshold / std::ptrdiff_t(2 * ns + nf + 1)))
-          : Index(rows),
+      parallel::grain_if(rows * std::ptrdiff_t(2 * ns + nf) > parallel_work_threshold,
+                         Index(std::max<std::ptrdiff_t>(1, parallel_work_threshold / std::ptrdiff_t(2 * ns + nf + 1))),
+                         Index(rows)),
       [&](Index begin, Index end) {
         for (Index row = begin; row < end; ++row) {
           const auto r = static_cast<std::size_t>(row);
@@ -376,27 +376,28 @@ template <int R>
 void interpolate_records(const double* records, const Index* connectivity, std::span<const NodeLocation> locations,
                          std::span<const Vec3> initial, std::span<Vec3> fluid_x, std::span<Vec3> fluid_w) {
   const auto n = static_cast<std::ptrdiff_t>(locations.size());
-  parallel::for_range(
-      Index(n), n * kNodes * R > parallel_work_threshold ? Index(parallel_work_threshold / (kNodes * R)) : Index(n),
-      [&](Index begin, Index end) {
-        for (Index p = begin; p < end; ++p) {
-          const NodeLocation& loc = locations[static_cast<std::size_t>(p)];
-          const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
-          double acc[R] = {};
-          for (int a = 0; a < kNodes; ++a) {
-            const double* r = records + R * static_cast<std::ptrdiff_t>(nodes[a]);
-            const double N = loc.shape[static_cast<std::size_t>(a)];
-            for (int i = 0; i < R; ++i) acc[i] += N * r[i];
-          }
-          if (initial.empty()) {
-            fluid_x[static_cast<std::size_t>(p)] = Vec3(acc[0], acc[1], acc[2]);
-          } else {
-            const Vec3& X = initial[static_cast<std::size_t>(p)];
-            fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
-          }
-          if constexpr (R == 6) fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
-        }
-      });
+  parallel::for_range(Index(n),
+                      parallel::grain_if(n * kNodes * R > parallel_work_threshold,
+                                         Index(parallel_work_threshold / (kNodes * R)), Index(n)),
+                      [&](Index begin, Index end) {
+                        for (Index p = begin; p < end; ++p) {
+                          const NodeLocation& loc = locations[static_cast<std::size_t>(p)];
+                          const Index* nodes = connectivity + static_cast<std::ptrdiff_t>(loc.element) * kNodes;
+                          double acc[R] = {};
+                          for (int a = 0; a < kNodes; ++a) {
+                            const double* r = records + R * static_cast<std::ptrdiff_t>(nodes[a]);
+                            const double N = loc.shape[static_cast<std::size_t>(a)];
+                            for (int i = 0; i < R; ++i) acc[i] += N * r[i];
+                          }
+                          if (initial.empty()) {
+                            fluid_x[static_cast<std::size_t>(p)] = Vec3(acc[0], acc[1], acc[2]);
+                          } else {
+                            const Vec3& X = initial[static_cast<std::size_t>(p)];
+                            fluid_x[static_cast<std::size_t>(p)] = Vec3(X[0] + acc[0], X[1] + acc[1], X[2] + acc[2]);
+                          }
+                          if constexpr (R == 6) fluid_w[static_cast<std::size_t>(p)] = Vec3(acc[3], acc[4], acc[5]);
+                        }
+                      });
 }
 
 }  // namespace

@@ -17,7 +17,7 @@ void ShellModel::for_each_element_parallel(F&& f) const {
   const bool threaded = mesh_.num_cells() >= min_cells_for_threads;
   for (const auto& color : colors_) {
     const auto count = static_cast<Index>(color.size());
-    parallel::for_range(count, threaded ? grain : count, [&](Index begin, Index end) {
+    parallel::for_range(count, parallel::grain_if(threaded, grain, count), [&](Index begin, Index end) {
       for (Index i = begin; i < end; ++i) f(color[static_cast<std::size_t>(i)]);
     });
   }
