@@ -136,6 +136,45 @@ TEST(Ordering, NoTwoBlocksOfOneColourShareANode) {
   }
 }
 
+// A rank's colouring (restrict_colouring) keeps the whole colouring's order: its cells, mapped
+// back to the whole mesh, come in the whole order; each local block lies in one whole block and
+// colour; and a bad cell list is refused.
+TEST(Ordering, RestrictedColouringKeepsTheWholeOrderOfTheRanksCells) {
+  const auto m = test_support::case_mesh("unit_cube.geo");
+  const auto whole = colour_cells(m.cells.connectivity, 4, m.num_nodes(), 97);
+  std::vector<Index> block_of(std::size_t(m.num_cells())), colour_of(std::size_t(m.num_cells())),
+      position(std::size_t(m.num_cells()));
+  for (int c = 0; c < whole.num_colours(); ++c)
+    for (Index b = whole.colour_offsets[std::size_t(c)]; b < whole.colour_offsets[std::size_t(c) + 1]; ++b)
+      for (Index k = whole.block_offsets[std::size_t(b)]; k < whole.block_offsets[std::size_t(b) + 1]; ++k) {
+        block_of[std::size_t(whole.order[std::size_t(k)])] = b;
+        colour_of[std::size_t(whole.order[std::size_t(k)])] = c;
+        position[std::size_t(whole.order[std::size_t(k)])] = k;
+      }
+  std::vector<Index> cells;  // every third cell and a run of consecutive ones
+  for (Index c = 0; c < m.num_cells(); ++c)
+    if (c % 3 == 0 || (c > m.num_cells() / 2 && c < m.num_cells() / 2 + 50)) cells.push_back(c);
+  const auto local = restrict_colouring(whole, cells);
+  ASSERT_EQ(local.order.size(), cells.size());
+  EXPECT_EQ(local.num_colours(), whole.num_colours());
+  for (std::size_t k = 1; k < local.order.size(); ++k)
+    EXPECT_LT(position[std::size_t(cells[std::size_t(local.order[k - 1])])],
+              position[std::size_t(cells[std::size_t(local.order[k])])]);
+  for (int c = 0; c < local.num_colours(); ++c)
+    for (Index b = local.colour_offsets[std::size_t(c)]; b < local.colour_offsets[std::size_t(c) + 1]; ++b) {
+      const Index first = local.block_offsets[std::size_t(b)];
+      ASSERT_LT(first, local.block_offsets[std::size_t(b) + 1]) << "empty block " << b;
+      const Index cell = cells[std::size_t(local.order[std::size_t(first)])];
+      for (Index k = first; k < local.block_offsets[std::size_t(b) + 1]; ++k) {
+        const Index ck = cells[std::size_t(local.order[std::size_t(k)])];
+        EXPECT_EQ(block_of[std::size_t(ck)], block_of[std::size_t(cell)]);
+        EXPECT_EQ(colour_of[std::size_t(ck)], c);
+      }
+    }
+  EXPECT_THROW(restrict_colouring(whole, std::vector<Index>{3, 2}), InputError);
+  EXPECT_THROW(restrict_colouring(whole, std::vector<Index>{m.num_cells()}), InputError);
+}
+
 // The lumped mass scattered colour by colour in parallel (the moving-mesh step's path) has
 // the bits of the serial sum, on a mesh above the parallel threshold, with 1 and 2 threads.
 TEST(TetGeometry, ColourLoopGivesTheSerialLumpedMassBitForBit) {

@@ -14,7 +14,8 @@
 
 namespace shellflow::fluid {
 
-FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions)
+FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions,
+                       std::optional<CellColouring> colouring)
     : mesh_(std::move(mesh)), options_(options) {
   if (mesh_.cells.type != mesh::ElementType::tet4)
     throw InputError(
@@ -22,7 +23,11 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<Bounda
                     "4-node tetrahedra (Mesh.ElementOrder = 1)",
                     mesh_.name, mesh_.source, mesh::element_info(mesh_.cells.type).short_name));
   const Index nn = mesh_.num_nodes();
-  colours_ = colour_cells(mesh_.cells.connectivity, 4, nn, default_block_size(mesh_.num_cells()));
+  if (colouring && colouring->order.size() != std::size_t(mesh_.num_cells()))
+    throw InputError(fmt::format("fluid mesh '{}': the given colouring orders {} cells, the mesh has {}", mesh_.name,
+                                 colouring->order.size(), mesh_.num_cells()));
+  colours_ = colouring ? std::move(*colouring)
+                       : colour_cells(mesh_.cells.connectivity, 4, nn, default_block_size(mesh_.num_cells()));
   tets_.reserve(mesh_.cells.connectivity.size());
   for (const Index c : colours_.order) {
     const auto cell = mesh_.cells.element(c);

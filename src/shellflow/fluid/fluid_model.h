@@ -9,6 +9,7 @@
 // leaves the model at the last valid state, so the caller can still write it.
 #include <array>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -85,8 +86,11 @@ class FluidModel {
   /// `mesh`: 4-node tetrahedra (renumber it with renumber_for_locality first for speed;
   /// node indices of the model are those of `mesh`). Throws InputError for a mesh that is
   /// not tet4, for bad boundary conditions or viscosity parameters, SolverError for an
-  /// inverted element.
-  FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions);
+  /// inverted element. `colouring`: the element blocks and colours to use (a rank's part takes
+  /// restrict_colouring of the whole mesh's, for the same bits on any number of ranks); none:
+  /// colour_cells with default_block_size.
+  FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions,
+             std::optional<CellColouring> colouring = std::nullopt);
 
   /// Sets every node from a primitive field, then imposes the boundary conditions.
   void set_state(const std::function<Primitive(const Vec3&)>& field);

@@ -1,5 +1,7 @@
 #include "shellflow/fluid/ordering.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <bit>
 #include <cstdint>
@@ -200,6 +202,31 @@ CellColouring colour_cells(std::span<const Index> conn, int npc, Index num_nodes
   for (const Index b : blocks) {
     for (Index c = b * block_size; c < std::min(nc, (b + 1) * block_size); ++c) out.order.push_back(c);
     out.block_offsets.push_back(Index(out.order.size()));
+  }
+  return out;
+}
+
+CellColouring restrict_colouring(const CellColouring& whole, std::span<const Index> cells) {
+  const auto n = static_cast<Index>(whole.order.size());
+  std::vector<Index> local(std::size_t(n), -1);
+  for (std::size_t i = 0; i < cells.size(); ++i) {
+    if (cells[i] < 0 || cells[i] >= n || (i > 0 && cells[i] <= cells[i - 1]))
+      throw InputError(fmt::format("restrict_colouring: cell {} ({}) of the rank is outside the {} cells of the mesh "
+                                   "or out of order",
+                                   i, cells[i], n));
+    local[std::size_t(cells[i])] = Index(i);
+  }
+  CellColouring out;
+  out.order.reserve(cells.size());
+  out.block_offsets.assign(1, 0);
+  out.colour_offsets.assign(1, 0);
+  for (int c = 0; c < whole.num_colours(); ++c) {
+    for (Index b = whole.colour_offsets[std::size_t(c)]; b < whole.colour_offsets[std::size_t(c) + 1]; ++b) {
+      for (Index k = whole.block_offsets[std::size_t(b)]; k < whole.block_offsets[std::size_t(b) + 1]; ++k)
+        if (const Index l = local[std::size_t(whole.order[std::size_t(k)])]; l >= 0) out.order.push_back(l);
+      if (Index(out.order.size()) > out.block_offsets.back()) out.block_offsets.push_back(Index(out.order.size()));
+    }
+    out.colour_offsets.push_back(out.num_blocks());
   }
   return out;
 }

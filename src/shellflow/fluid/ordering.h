@@ -41,6 +41,15 @@ struct CellColouring {
 CellColouring colour_cells(std::span<const Index> connectivity, int nodes_per_cell, Index num_nodes,
                            Index block_size = 1);
 
+/// The colouring of a rank's cells that keeps the order of a whole mesh's colouring `whole`:
+/// `cells` holds the rank's cells as indices into the whole mesh, increasing (local cell i is
+/// whole cell cells[i]). Local blocks are the whole blocks restricted to the rank's cells (empty
+/// ones dropped), in the same colours and order, so the element contributions at any node all of
+/// whose cells the rank holds are added in the same order as in the whole mesh: a distributed
+/// flow gives the same bits on any number of ranks (docs/parallel.md). Throws InputError for a
+/// cell index outside `whole` or not increasing.
+CellColouring restrict_colouring(const CellColouring& whole, std::span<const Index> cells);
+
 /// Block size for `num_cells` cells: about 64 blocks, 256 to 8192 cells each. It does not
 /// depend on the thread count, so neither does the order of the element sums (the same bits on
 /// any number of threads): threads take blocks as they come (core/parallel.h).
