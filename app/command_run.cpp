@@ -12,8 +12,11 @@ io::Case read_case(const CommonOptions& options) {
 
 int run_command(const CommonOptions& options, const StopOptions& stop) {
   const io::Case c = read_case(options);
-  return run::run_case(
-      c, {.case_file = options.case_file, .output_dir = options.output_dir, .plot = options.plot, .stop = stop});
+  return run::run_case(c, {.case_file = options.case_file,
+                           .output_dir = options.output_dir,
+                           .plot = options.plot,
+                           .stop = stop,
+                           .ranks = options.ranks});
 }
 
 }  // namespace shellflow::app

@@ -19,6 +19,7 @@ struct CommonOptions {
   std::optional<std::filesystem::path> output_dir;  ///< -o; default: the case's output.directory
   bool plot = true;                                 ///< make the PNG plot at the end
   std::vector<std::string> overrides;               ///< --set KEY=VALUE, applied to the case file
+  const dist::Communicator* ranks = nullptr;        ///< started by mpirun with several ranks
 };
 
 using run::kStoppedExitCode;

@@ -24,9 +24,25 @@
 
 #include "commands.h"
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/core/version.h"
+#include "shellflow/dist/communicator.h"
 #include "shellflow/fluid/residual.h"
 #include "shellflow/run/run_control.h"
+
+namespace {
+
+/// The rank count and this process's rank as OpenMPI's or MPICH's launcher sets them (1 and 0
+/// without a launcher).
+long launcher_value(const char* openmpi, const char* mpich, long fallback) {
+  for (const char* name : {openmpi, mpich})
+    if (const char* value = std::getenv(name)) return std::atol(value);
+  return fallback;
+}
+int launcher_ranks() { return int(launcher_value("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", 1)); }
+int launcher_rank() { return int(launcher_value("OMPI_COMM_WORLD_RANK", "PMI_RANK", 0)); }
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace shellflow;
@@ -178,18 +194,28 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(cli, argc, argv);
   spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
-  // Started by mpirun with several ranks: every rank would run the whole case into one folder.
-  // OpenMPI's and MPICH's launchers say so in the environment (MPI is not started for it).
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
-    if (const char* ranks = std::getenv(name); ranks && std::atol(ranks) > 1) {
-      const char* rank = std::getenv(std::string_view(name).starts_with("OMPI") ? "OMPI_COMM_WORLD_RANK" : "PMI_RANK");
-      if (!rank || std::atol(rank) == 0)
+  // Started by mpirun with several ranks (the launcher says so in the environment): `run`
+  // distributes a flow over them (docs/parallel.md); MPI is started for that only, so a plain
+  // `shellflow run` is one process without MPI. Rank 0 alone logs, prints errors and writes the
+  // output folder (core/output_file.h).
+  const int launched_ranks = launcher_ranks();
+  bool print_errors = true;
+  if (launched_ranks > 1) {
+    if (!*run) {
+      if (launcher_rank() == 0)
         std::fprintf(stderr,
-                     "shellflow: error: started as %s MPI ranks; runs distributed over ranks are not available yet "
-                     "(docs/parallel.md): run shellflow without mpirun (its threads use the machine's cores)\n",
-                     ranks);
+                     "shellflow: error: started as %d MPI ranks; only 'shellflow run' of a flow case runs on several "
+                     "ranks (docs/parallel.md): run this command without mpirun\n",
+                     launched_ranks);
       return 1;
     }
+    options.ranks = &dist::Communicator::world();
+    if (options.ranks->rank() != 0) {
+      set_process_writes_files(false);
+      spdlog::set_level(spdlog::level::off);
+      print_errors = false;
+    }
+  }
   try {
     // A bad SHELLFLOW_SIMD is refused before anything is read or meshed.
     spdlog::debug("element pass: {}", fluid::to_string(fluid::simd_path()));
@@ -200,10 +226,10 @@ int main(int argc, char** argv) {
     if (*study) return app::study_command(options, study_options);
     if (*partition) return app::partition_command(options, partition_parts);
   } catch (const Error& e) {
-    std::fprintf(stderr, "shellflow: error: %s\n", e.what());
+    if (print_errors) std::fprintf(stderr, "shellflow: error: %s\n", e.what());
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "shellflow: internal error: %s\n", e.what());
+    if (print_errors) std::fprintf(stderr, "shellflow: internal error: %s\n", e.what());
     return 3;
   }
   return 0;

@@ -17,6 +17,7 @@
 #include "../fluid/box_mesh.h"
 #include "shellflow/core/parallel.h"
 #include "shellflow/dist/communicator.h"
+#include "shellflow/dist/flow_distribution.h"
 #include "shellflow/dist/halo_exchange.h"
 #include "shellflow/fluid/fluid_model.h"
 #include "shellflow/fluid/ordering.h"
@@ -51,9 +52,7 @@ int main(int argc, char** argv) {
                            {"walls", fluid::BoundaryKind::slip_wall, {}, {}},
                            {"symmetry", fluid::BoundaryKind::symmetry, {}, {}}});
   dist::HaloExchange halo(comm, part);
-  if (comm.size() > 1)
-    model.set_distribution(
-        {[&](std::span<double* const> f) { halo.exchange(f); }, [&](double x) { return comm.min(x); }});
+  if (comm.size() > 1) model.set_distribution(dist::flow_distribution(comm, halo, part));
   model.set_state([&](const Vec3& x) {
     const double pi = std::numbers::pi;
     fluid::Primitive s = free_stream;

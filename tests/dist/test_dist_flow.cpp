@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "shellflow/dist/communicator.h"
+#include "shellflow/dist/flow_distribution.h"
 #include "shellflow/dist/halo_exchange.h"
 #include "shellflow/fluid/fluid_model.h"
 #include "shellflow/mesh/partition.h"
@@ -63,12 +64,12 @@ TEST(DistributedFlow, OwnedNodesOfEveryRankFollowTheOneModelRunFor100Steps) {
   const mesh::LocalPart part = mesh::make_local_part(global, owner, comm.rank());
 
   fluid::FluidModel whole = model(global);
-  const fluid::CellColouring whole_colouring =
-      fluid::colour_cells(global.cells.connectivity, 4, global.num_nodes(), fluid::default_block_size(global.num_cells()));
-  fluid::FluidModel mine = model(mesh::local_mesh(global, part), fluid::restrict_colouring(whole_colouring, part.cells));
+  const fluid::CellColouring whole_colouring = fluid::colour_cells(global.cells.connectivity, 4, global.num_nodes(),
+                                                                   fluid::default_block_size(global.num_cells()));
+  fluid::FluidModel mine =
+      model(mesh::local_mesh(global, part), fluid::restrict_colouring(whole_colouring, part.cells));
   HaloExchange halo(comm, part);
-  mine.set_distribution(
-      {[&](std::span<double* const> fields) { halo.exchange(fields); }, [&](double x) { return comm.min(x); }});
+  mine.set_distribution(flow_distribution(comm, halo, part));
 
   double largest_dt_difference = 0.0;
   for (int step = 0; step < 100; ++step) {

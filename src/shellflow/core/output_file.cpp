@@ -47,7 +47,10 @@ void create_parent(const fs::path& path) {
                             printable(path.string()), ec.message()));
 }
 
+bool g_writes_files = true;
+
 void write_parts_atomically(const fs::path& path, const std::vector<std::string_view>& parts, bool sync) {
+  if (!g_writes_files) return;
   create_parent(path);
   std::error_code ec;
   if (fs::is_directory(fs::symlink_status(path, ec)))
@@ -108,7 +111,16 @@ void rename_into_place(const fs::path& from, const fs::path& to) {
 
 // ---- AppendFile -------------------------------------------------------------------------
 
+bool process_writes_files() { return g_writes_files; }
+void set_process_writes_files(bool writes) { g_writes_files = writes; }
+PieceOutput::PieceOutput() : before_(std::exchange(g_writes_files, true)) {}
+PieceOutput::~PieceOutput() { g_writes_files = before_; }
+
 AppendFile::AppendFile(const fs::path& path, Mode mode) : path_(path) {
+  if (!g_writes_files) {
+    discard_ = true;
+    return;
+  }
   if (mode == Mode::truncate) create_parent(path);
   const int flags = O_RDWR | O_NOFOLLOW | O_CLOEXEC | (mode == Mode::truncate ? O_CREAT | O_TRUNC : O_APPEND);
   fd_ = ::open(path.c_str(), flags, 0644);
@@ -122,12 +134,14 @@ AppendFile::AppendFile(const fs::path& path, Mode mode) : path_(path) {
   }
 }
 
-AppendFile::AppendFile(AppendFile&& o) noexcept : fd_(std::exchange(o.fd_, -1)), path_(std::move(o.path_)) {}
+AppendFile::AppendFile(AppendFile&& o) noexcept
+    : fd_(std::exchange(o.fd_, -1)), discard_(std::exchange(o.discard_, false)), path_(std::move(o.path_)) {}
 
 AppendFile& AppendFile::operator=(AppendFile&& o) noexcept {
   if (this != &o) {
     if (fd_ >= 0) ::close(fd_);
     fd_ = std::exchange(o.fd_, -1);
+    discard_ = std::exchange(o.discard_, false);
     path_ = std::move(o.path_);
   }
   return *this;
@@ -138,6 +152,7 @@ AppendFile::~AppendFile() {
 }
 
 void AppendFile::write(std::string_view bytes) {
+  if (discard_) return;
   if (fd_ < 0) throw Error(fmt::format("{}: not open", printable(path_.string())));
   if (!write_all(fd_, bytes))
     throw Error(fmt::format("cannot write {} (disk full?): {}", printable(path_.string()), std::strerror(errno)));
@@ -164,6 +179,7 @@ std::string AppendFile::read_at(std::uint64_t offset, std::size_t n) const {
 }
 
 void AppendFile::truncate(std::uint64_t size) {
+  if (discard_) return;
   if (fd_ < 0 || ::ftruncate(fd_, off_t(size)) != 0)
     throw Error(
         fmt::format("{}: cannot cut it back to {} bytes ({})", printable(path_.string()), size, std::strerror(errno)));

@@ -21,6 +21,25 @@
 
 namespace shellflow {
 
+/// Whether this process writes files (true unless set): on the ranks of a distributed run other
+/// than rank 0 it is false, and every writer here does nothing (an AppendFile is not opened and
+/// takes the rows without writing them), so that the code of a run is the same on every rank
+/// and only rank 0 touches the output folder. PieceOutput lifts it for the files every rank
+/// writes itself (its `.vtu` piece of a frame).
+bool process_writes_files();
+void set_process_writes_files(bool writes);
+/// While it lives, this process writes files whatever set_process_writes_files says.
+class PieceOutput {
+ public:
+  PieceOutput();
+  ~PieceOutput();
+  PieceOutput(const PieceOutput&) = delete;
+  PieceOutput& operator=(const PieceOutput&) = delete;
+
+ private:
+  bool before_;
+};
+
 /// Writes `path` whole from `fill` (see above); throws Error naming the file when it cannot,
 /// or when `path` is a symbolic link to a folder (rename cannot replace that).
 void write_file_atomically(const std::filesystem::path& path, const std::function<void(std::ostream&)>& fill);
@@ -42,7 +61,7 @@ class AppendFile {
   AppendFile(const AppendFile&) = delete;
   AppendFile& operator=(const AppendFile&) = delete;
   ~AppendFile();
-  bool is_open() const { return fd_ >= 0; }
+  bool is_open() const { return fd_ >= 0 || discard_; }
   /// Writes all of `bytes` (one write(2) call for a short row: a crash leaves whole rows).
   void write(std::string_view bytes);
   /// Its size in bytes, up to `n` bytes from `offset`, and cutting it back to `size` bytes
@@ -53,6 +72,7 @@ class AppendFile {
 
  private:
   int fd_ = -1;
+  bool discard_ = false;  ///< made while the process writes no files: rows are dropped
   std::filesystem::path path_;
 };
 

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "shellflow/core/output_file.h"
+
 namespace shellflow {
 
 Progress::Progress(double start_time, double end_time, bool enabled)
@@ -16,7 +18,9 @@ Progress::Progress(double start_time, double end_time, bool enabled)
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
-Progress::Progress(double start_time, double end_time) : Progress(start_time, end_time, isatty(STDOUT_FILENO) != 0) {}
+// On a terminal, and (a distributed run) on the rank that writes the output (core/output_file.h).
+Progress::Progress(double start_time, double end_time)
+    : Progress(start_time, end_time, isatty(STDOUT_FILENO) != 0 && process_writes_files()) {}
 
 Progress::~Progress() { finish(); }
 

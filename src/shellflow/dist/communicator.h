@@ -7,8 +7,11 @@
 // thread that calls these functions talks to MPI; the thread pool of core/parallel.h stays
 // inside a rank) and finalised when the process exits normally. Without mpirun it is one rank
 // (OpenMPI's singleton start).
+#include <exception>
 #include <string>
 #include <vector>
+
+#include "shellflow/core/error.h"
 
 namespace shellflow::dist {
 
@@ -45,5 +48,28 @@ class Communicator {
   int rank_ = 0;
   int size_ = 1;
 };
+
+/// Runs `f` on every rank of `comm` (or just runs it when `comm` is null) and agrees on its
+/// failure: when f throws on some rank, every rank throws after it, the rank's own exception
+/// or Error with the lowest failing rank's line (first_error), so no rank goes on to wait for
+/// a failed one. Every rank must call it at the same point.
+template <class F>
+void on_every_rank(const Communicator* comm, F&& f) {
+  if (!comm) {
+    f();
+    return;
+  }
+  std::exception_ptr mine;
+  std::string message;
+  try {
+    f();
+  } catch (const std::exception& e) {
+    mine = std::current_exception();
+    message = *e.what() ? e.what() : "error";
+  }
+  const std::string first = comm->first_error(message);
+  if (mine) std::rethrow_exception(mine);
+  if (!first.empty()) throw Error(first);
+}
 
 }  // namespace shellflow::dist

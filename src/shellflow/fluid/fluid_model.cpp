@@ -47,8 +47,16 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<Bounda
 void FluidModel::set_state(const std::function<Primitive(const Vec3&)>& field) {
   for (Index a = 0; a < mesh_.num_nodes(); ++a) state_.set(a, to_conservative(options_.gas, field(x_[std::size_t(a)])));
   boundaries_.apply(options_.gas, time_, x_, w_, state_, true);
+  exchange_state();
   check_positivity(state_, time_);
   viscosity_valid_ = false;
+}
+
+void FluidModel::exchange_state() {
+  if (!distribution_.exchange) return;
+  double* fields[num_variables];
+  for (int v = 0; v < num_variables; ++v) fields[v] = state_.var[std::size_t(v)].data();
+  distribution_.exchange(fields);
 }
 
 void FluidModel::set_state(const FluidState& state) {
@@ -56,6 +64,7 @@ void FluidModel::set_state(const FluidState& state) {
     throw InputError(
         fmt::format("fluid state has {} nodes, mesh '{}' has {}", state.size(), mesh_.name, mesh_.num_nodes()));
   state_ = state;
+  exchange_state();
   viscosity_valid_ = false;
 }
 
@@ -162,7 +171,14 @@ double FluidModel::stable_dt(double cfl) {
 void FluidModel::set_distribution(Distribution distribution) {
   if (options_.consistent_mass_iterations > 0)
     throw InputError("a distributed flow has lumped mass only (fluid.consistent_mass_iterations = 0)");
+  if (!distribution.exchange || !distribution.min || !distribution.sum || !distribution.first_error ||
+      distribution.owned < 0 || distribution.owned > mesh_.num_nodes())
+    throw InputError(
+        fmt::format("fluid mesh '{}': a distribution needs exchange, min, sum, first_error and 0 <= owned "
+                    "<= {} nodes",
+                    mesh_.name, mesh_.num_nodes()));
   distribution_ = std::move(distribution);
+  exchange_state();  // the ghosts' boundary conditions used the rank's partial wall normals
   viscosity_valid_ = false;
 }
 
@@ -181,8 +197,9 @@ void FluidModel::step(double dt, std::span<const Vec3> x_next, std::span<const V
 void FluidModel::step_local(double cfl) {
   check_cfl(cfl);
   update_viscosity();
-  const double dt_min = cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_, time_step_diffusivity(),
-                                                    time_step_work_, &element_dt_);
+  double dt_min = cfl * min_element_time_step(options_.gas, tets_, geometry_, state_, w_, time_step_diffusivity(),
+                                              time_step_work_, &element_dt_);
+  if (distribution_.min) dt_min = distribution_.min(dt_min);
   for (auto& dt : element_dt_) dt *= cfl;
   nodal_dt_.assign(std::size_t(mesh_.num_nodes()), std::numeric_limits<double>::infinity());
   for (std::size_t e = 0; e < element_dt_.size(); ++e)
@@ -190,6 +207,10 @@ void FluidModel::step_local(double cfl) {
       double& d = nodal_dt_[std::size_t(tets_[4 * e + std::size_t(a)])];
       d = std::min(d, element_dt_[e]);
     }
+  if (distribution_.exchange) {  // a ghost's minimum misses the cells beyond the ghost layer
+    double* field = nodal_dt_.data();
+    distribution_.exchange(std::span<double* const>(&field, 1));
+  }
   w_.assign(w_.size(), Vec3::Zero());  // steady runs: fixed mesh
   advance(dt_min, x_, {}, true);
 }
@@ -214,7 +235,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   // Mesh velocity of the step (a member: no allocation per step once sized).
   w_next_.resize(std::size_t(nn));
   auto& w_step = w_next_;
-  const bool mesh_moves = reduce_items(
+  const bool moves_here = reduce_items(
       nn, parallel::kNodeGrain, node_parallel_threshold, false,
       [&](Index a) {
         const auto i = std::size_t(a);
@@ -223,6 +244,9 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
         return v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
       },
       [](bool p, bool q) { return p || q; });
+  const bool distributed = bool(distribution_.exchange);
+  // Every rank takes the ALE terms if the mesh moves anywhere (the same bits on any rank count).
+  const bool mesh_moves = distributed ? distribution_.min(moves_here ? 0.0 : 1.0) == 0.0 : moves_here;
   lap(timings_.mesh_velocity);
   update_viscosity();
   lap(timings_.viscosity);
@@ -264,24 +288,44 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
 
   lap(timings_.update);
   const double t_next = time_ + dt;
+  // A failed step (inverted element, non-physical state) leaves the model as it was. On ranks the
+  // failure found on one rank is kept until the step's exchange is done, then agreed on.
+  std::string failure;
+  bool normals_moved = false;
   if (moves) {
-    compute_geometry(x_next, loop(), next_geometry_);  // throws before anything changes
+    try {
+      compute_geometry(x_next, loop(), next_geometry_);  // throws before anything changes
+    } catch (const SolverError& e) {
+      if (!distributed) throw;
+      failure = e.what();
+    }
     lap(timings_.geometry);
-    boundaries_.update_normals(x_next);
+    if (failure.empty()) {
+      boundaries_.update_normals(x_next);
+      normals_moved = true;
+    }
     lap(timings_.normals);
   }
-  boundaries_.apply(options_.gas, t_next, x_next, w_step, next_state_);
-  if (distribution_.exchange) {
+  if (failure.empty()) boundaries_.apply(options_.gas, t_next, x_next, w_step, next_state_);
+  if (distributed) {
     double* fields[num_variables];
     for (int v = 0; v < num_variables; ++v) fields[v] = next_state_.var[std::size_t(v)].data();
     distribution_.exchange(fields);
   }
   lap(timings_.boundary);
   try {
-    check_positivity(next_state_, t_next);
-  } catch (...) {
-    if (moves) boundaries_.update_normals(x_);
-    throw;
+    if (failure.empty()) check_positivity(next_state_, t_next);
+  } catch (const SolverError& e) {
+    if (!distributed) {
+      if (normals_moved) boundaries_.update_normals(x_);
+      throw;
+    }
+    failure = e.what();
+  }
+  if (distributed) failure = distribution_.first_error(failure);
+  if (!failure.empty()) {
+    if (normals_moved) boundaries_.update_normals(x_);
+    throw SolverError(failure);
   }
 
   // Steady-state residual: RMS of d(rho)/dt over the nodes, summed in fixed chunks (the
@@ -304,6 +348,16 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   double rate2 = 0.0;
   for (const double sum : rate_sums_) rate2 += sum;
   density_rate_ = std::sqrt(rate2 / nn);
+  if (distributed) {
+    // Over the owned nodes (ghosts would count twice), the same on every rank.
+    double owned2 = 0.0;
+    for (Index a = 0; a < distribution_.owned; ++a) {
+      const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
+                       (local ? nodal_dt_[std::size_t(a)] : dt);
+      owned2 += d * d;
+    }
+    density_rate_ = std::sqrt(distribution_.sum(owned2) / distribution_.sum(double(distribution_.owned)));
+  }
   std::swap(state_, next_state_);
   if (moves) {
     std::swap(geometry_, next_geometry_);
@@ -391,6 +445,10 @@ std::vector<double> FluidModel::nodal_artificial_viscosity() {
     }
   }
   for (std::size_t a = 0; a < nn; ++a) sum[a] = weight[a] > 0.0 ? sum[a] / weight[a] : 0.0;
+  if (distribution_.exchange) {  // a ghost's mean misses the cells beyond the ghost layer
+    double* field = sum.data();
+    distribution_.exchange(std::span<double* const>(&field, 1));
+  }
   return sum;
 }
 

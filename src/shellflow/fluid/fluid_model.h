@@ -145,15 +145,25 @@ class FluidModel {
   void step_local(double cfl);
 
   /// A rank's part of a distributed mesh (docs/parallel.md): the model's mesh is the rank's
-  /// local mesh (owned nodes, then ghosts; every cell of an owned node). `exchange` sets the
-  /// ghost entries of nodal fields from their owners; it is called after the artificial
-  /// viscosity's gradient recovery and smoothing and on the new state after the boundary
-  /// conditions, so every owned node advances as in one process. `min` is the minimum over
-  /// the ranks (the stable time step). Lumped mass only; the density-rate monitor stays local.
-  /// Every rank must call step and stable_dt in the same order.
+  /// local mesh (owned nodes, then ghosts; every cell of an owned node), best with the whole
+  /// mesh's colouring restricted to it (restrict_colouring: the same bits on any rank count).
+  /// `exchange` sets the ghost entries of nodal fields from their owners; it is called after the
+  /// artificial viscosity's gradient recovery and smoothing, on the new state after the
+  /// boundary conditions and on the nodal viscosity of the frames, so every owned node advances
+  /// as in one process. `min` is the minimum over the ranks (the stable time step, whether the
+  /// mesh moves); `sum` a sum over the ranks whose bits are the same on every rank (the density
+  /// rate over the `owned` first nodes, so that every rank takes the same steady-state
+  /// decision); `first_error` the agreement on a failed step (dist::Communicator::first_error):
+  /// an inverted element or a non-physical state found on one rank fails the step on every
+  /// rank with the same line, after the step's exchanges, so no rank waits for another. Lumped
+  /// mass only. Every rank must call step, stable_dt and nodal_artificial_viscosity in the same
+  /// order.
   struct Distribution {
     GhostExchange exchange;
     std::function<double(double)> min;
+    std::function<double(double)> sum;
+    std::function<std::string(const std::string&)> first_error;
+    Index owned = 0;
   };
   /// Throws InputError with consistent mass (its sweeps would need an exchange each).
   void set_distribution(Distribution distribution);
@@ -210,6 +220,8 @@ class FluidModel {
   double total_mass() const;
 
  private:
+  /// Ghost entries of the state from their owners (a distributed model; else nothing).
+  void exchange_state();
   void advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w, bool local);
   void check_cfl(double cfl) const;
   void update_viscosity();

@@ -211,9 +211,10 @@ CellColouring restrict_colouring(const CellColouring& whole, std::span<const Ind
   std::vector<Index> local(std::size_t(n), -1);
   for (std::size_t i = 0; i < cells.size(); ++i) {
     if (cells[i] < 0 || cells[i] >= n || (i > 0 && cells[i] <= cells[i - 1]))
-      throw InputError(fmt::format("restrict_colouring: cell {} ({}) of the rank is outside the {} cells of the mesh "
-                                   "or out of order",
-                                   i, cells[i], n));
+      throw InputError(
+          fmt::format("restrict_colouring: cell {} ({}) of the rank is outside the {} cells of the mesh "
+                      "or out of order",
+                      i, cells[i], n));
     local[std::size_t(cells[i])] = Index(i);
   }
   CellColouring out;

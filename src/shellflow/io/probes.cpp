@@ -141,6 +141,15 @@ ProbeSet::~ProbeSet() = default;
 
 std::size_t ProbeSet::size() const { return probes_.size(); }
 
+std::vector<Index> ProbeSet::nodes(std::string_view mesh) const {
+  std::vector<Index> out;
+  for (const Located& l : probes_)
+    if (l.probe.mesh == mesh) out.insert(out.end(), l.nodes.begin(), l.nodes.end());
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
 std::vector<double> ProbeSet::sample(std::span<const FieldView> fields) const {
   std::vector<double> values;
   values.reserve(probes_.size());

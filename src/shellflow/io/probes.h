@@ -44,6 +44,8 @@ class ProbeSet {
   /// Values of the probes for these fields, in declaration order (what record() writes).
   std::vector<double> sample(std::span<const FieldView> fields) const;
   std::size_t size() const;
+  /// The nodes of `mesh` the probes read (sorted, each once).
+  std::vector<Index> nodes(std::string_view mesh) const;
   ProbeWriter& writer() { return writer_; }
 
  private:

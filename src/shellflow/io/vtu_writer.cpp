@@ -354,4 +354,27 @@ void write_vtu(const std::filesystem::path& path, const VtuGrid& grid) {
   });
 }
 
+void write_pvtu(const std::filesystem::path& path, const std::vector<std::string>& pieces,
+                const std::vector<PvtuArray>& point_arrays, const std::vector<PvtuArray>& cell_arrays) {
+  if (pieces.empty()) throw Error(fmt::format("{}: a .pvtu needs at least one piece", path.string()));
+  const auto arrays = [](const std::vector<PvtuArray>& list) {
+    std::string xml;
+    for (const PvtuArray& a : list)
+      xml += fmt::format("      <PDataArray type=\"Float64\" Name=\"{}\" NumberOfComponents=\"{}\"/>\n",
+                         xml_escape(a.name), a.components);
+    return xml;
+  };
+  std::string xml = "<?xml version=\"1.0\"?>\n";
+  xml += fmt::format("<VTKFile type=\"PUnstructuredGrid\" version=\"1.0\" byte_order=\"{}\" header_type=\"UInt64\">\n",
+                     std::endian::native == std::endian::little ? "LittleEndian" : "BigEndian");
+  xml += "  <PUnstructuredGrid GhostLevel=\"0\">\n";
+  xml += "    <PPointData>\n" + arrays(point_arrays) + "    </PPointData>\n";
+  xml += "    <PCellData>\n" + arrays(cell_arrays) + "    </PCellData>\n";
+  xml +=
+      "    <PPoints>\n      <PDataArray type=\"Float64\" Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
+  for (const std::string& piece : pieces) xml += fmt::format("    <Piece Source=\"{}\"/>\n", xml_escape(piece));
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  write_file_atomically(path, xml);
+}
+
 }  // namespace shellflow::io

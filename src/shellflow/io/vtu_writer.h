@@ -69,6 +69,19 @@ struct VtuGrid {
 /// when the file cannot be written; `path` is then left as it was.
 void write_vtu(const std::filesystem::path& path, const VtuGrid& grid);
 
+/// A point or cell array of the pieces a `.pvtu` joins (Float64, `components` per tuple).
+struct PvtuArray {
+  std::string name;
+  int components = 1;
+};
+
+/// Writes the parallel file `path` (`.pvtu`) that joins the `.vtu` files `pieces` (paths
+/// relative to its folder, '/' separated), each written by write_vtu with Float64 points and
+/// the arrays `point_arrays` and `cell_arrays` in that order: ParaView opens it as one mesh.
+/// Throws shellflow::Error when there is no piece or the file cannot be written.
+void write_pvtu(const std::filesystem::path& path, const std::vector<std::string>& pieces,
+                const std::vector<PvtuArray>& point_arrays, const std::vector<PvtuArray>& cell_arrays);
+
 /// Views a span of Vec3 as the flat doubles x0 y0 z0 x1 ... (Vec3 holds exactly 3 doubles).
 std::span<const double> flat(std::span<const Vec3> v);
 

@@ -2,7 +2,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <optional>
 
+#include "shellflow/dist/flow_distribution.h"
+#include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/run_kinds.h"
 #include "shellflow/run/time_loop.h"
 #include "shellflow/setup/fluid_setup.h"
@@ -31,11 +34,27 @@ void step_moving_mesh(const io::FluidMeshMotion& motion, setup::Flow& flow, std:
 void run_fluid(const RunContext& run) {
   const io::FluidSection& section = *run.c.fluid;
   const io::FluidAnalysis& analysis = *section.analysis;
-  // 1. The flow (renumbered mesh, boundary conditions, initial state) and its output.
-  setup::Flow flow = setup::build_flow(section, *run.meshes.fluid);
+  // 1. The flow (renumbered mesh, boundary conditions, initial state) and its output; on ranks,
+  // the rank's part of it, its piece of the frames and the probes' values from their owners.
+  const dist::Communicator* ranks = run.ranks;
+  setup::Flow flow;
+  std::optional<dist::HaloExchange> halo;
+  std::optional<FluidPieces> pieces;
+  dist::on_every_rank(ranks, [&] {
+    flow = ranks ? setup::build_flow(section, *run.meshes.fluid, ranks->rank(), ranks->size())
+                 : setup::build_flow(section, *run.meshes.fluid);
+    if (!ranks) return;
+    halo.emplace(*ranks, flow.part->local);
+    flow.model->set_distribution(dist::flow_distribution(*ranks, *halo, flow.part->local));
+    pieces.emplace(make_fluid_pieces(flow, *ranks, run.recorder.probes()));
+  });
   fluid::FluidModel& model = *flow.model;
-  FluidOutput output(*run.meshes.fluid, flow.new_index, model, run.outdir, run.control.output_mode());
-  run.recorder.add(output);
+  std::optional<FluidOutput> output;
+  if (pieces)
+    output.emplace(*run.meshes.fluid, *pieces, model, run.outdir, run.control.output_mode());
+  else
+    output.emplace(*run.meshes.fluid, flow.new_index, model, run.outdir, run.control.output_mode());
+  run.recorder.add(*output);
   // 2. One step: local time steps to a steady state, or a global CFL step on a fixed or
   // moving mesh.
   const bool steady = analysis.type == io::FluidAnalysisType::steady;

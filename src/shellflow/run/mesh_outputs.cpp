@@ -6,7 +6,9 @@
 #include <array>
 #include <tuple>
 
+#include "shellflow/core/output_file.h"
 #include "shellflow/io/mesh_output.h"
+#include "shellflow/run/fluid_pieces.h"
 #include "shellflow/setup/fluid_setup.h"
 #include "shellflow/shell/shell_stress.h"
 
@@ -118,9 +120,26 @@ std::vector<double> flatten(std::span<const Vec3> v) {
 MeshOutput::MeshOutput(const mesh::Mesh& mesh, const std::filesystem::path& outdir, io::OutputMode mode)
     : mesh_(mesh), outdir_(outdir), pvd_(outdir, mesh.name, mode) {}
 
+void MeshOutput::set_pieces(const mesh::Mesh& piece, int rank, int count) { pieces_ = Pieces{&piece, rank, count}; }
+
 void MeshOutput::write_frame(long step, double t, std::vector<io::VtuField> fields, std::span<const Vec3> positions) {
-  const std::string name = fmt::format("{}_{:06}.vtu", mesh_.name, step);
-  io::write_mesh_vtu(outdir_ / name, mesh_, std::move(fields), t, positions);
+  if (!pieces_) {
+    const std::string name = fmt::format("{}_{:06}.vtu", mesh_.name, step);
+    io::write_mesh_vtu(outdir_ / name, mesh_, std::move(fields), t, positions);
+    pvd_.add(t, name);
+    return;
+  }
+  const auto piece_name = [&](int rank) { return fmt::format("{}_{:06}_p{}.vtu", mesh_.name, step, rank); };
+  std::vector<io::PvtuArray> point_arrays;
+  for (const io::VtuField& f : fields) point_arrays.push_back({f.name, f.components});
+  {
+    const PieceOutput every_rank;  // each rank writes its own piece
+    io::write_mesh_vtu(outdir_ / piece_name(pieces_->rank), *pieces_->mesh, std::move(fields), t, positions);
+  }
+  std::vector<std::string> pieces;
+  for (int r = 0; r < pieces_->count; ++r) pieces.push_back(piece_name(r));
+  const std::string name = fmt::format("{}_{:06}.pvtu", mesh_.name, step);
+  io::write_pvtu(outdir_ / name, pieces, point_arrays, {{"quality", 1}});  // rank 0 only (core/output_file.h)
   pvd_.add(t, name);
 }
 
@@ -225,34 +244,59 @@ FluidOutput::FluidOutput(const mesh::Mesh& case_mesh, std::span<const Index> new
                          const std::filesystem::path& outdir, io::OutputMode mode)
     : MeshOutput(case_mesh, outdir, mode), new_index_(new_index), model_(model) {}
 
+FluidOutput::FluidOutput(const mesh::Mesh& case_mesh, const FluidPieces& pieces, fluid::FluidModel& model,
+                         const std::filesystem::path& outdir, io::OutputMode mode)
+    : MeshOutput(case_mesh, outdir, mode), new_index_(pieces.case_to_model), model_(model), pieces_(&pieces) {
+  set_pieces(pieces.piece, pieces.ranks->rank(), pieces.ranks->size());
+  std::vector<ProbeGather::Quantity> quantities;
+  for (const auto& f : kFluidQuantities) quantities.push_back({f.name, f.components});
+  gather_ = std::make_unique<ProbeGather>(pieces, std::move(quantities),
+                                          [this](std::size_t q, Index k, double* out) { value(q, k, out); });
+}
+
+FluidOutput::~FluidOutput() = default;
+
+void FluidOutput::value(std::size_t q, Index k, double* out) const {
+  const fluid::Conservative u = model_.state().get(k);
+  fluid_value(kFluidQuantities[q].q, model_.options().gas, fluid::to_primitive(model_.options().gas, u), u,
+              model_.mesh_velocity()[std::size_t(k)], out);
+}
+
 std::vector<io::FieldView> FluidOutput::views() const {
+  if (gather_) return gather_->views();
   std::vector<io::FieldView> v;
-  for (const auto& f : kFluidQuantities)
-    v.push_back({"fluid", f.name, f.components, {}, [this, q = f.q](Index i, double* out) {
-                   const Index k = new_index_[std::size_t(i)];
-                   const fluid::Conservative u = model_.state().get(k);
-                   fluid_value(q, model_.options().gas, fluid::to_primitive(model_.options().gas, u), u,
-                               model_.mesh_velocity()[std::size_t(k)], out);
-                 }});
+  for (std::size_t q = 0; q < kFluidQuantities.size(); ++q)
+    v.push_back(
+        {"fluid", kFluidQuantities[q].name, kFluidQuantities[q].components, {}, [this, q](Index i, double* out) {
+           value(q, new_index_[std::size_t(i)], out);
+         }});
   return v;
+}
+
+void FluidOutput::prepare_sample() {
+  if (gather_) gather_->refresh();
 }
 
 void FluidOutput::write(long step, double) {
   // The flow's own time (the coupled driver's shell time may differ from it in the last bit).
   const double t = model_.time();
-  const std::size_t n = new_index_.size();
+  // The case's nodes, or this rank's piece's.
+  const std::span<const Index> model_node = pieces_ ? std::span<const Index>(pieces_->piece_to_model) : new_index_;
+  const std::size_t n = model_node.size();
   std::vector<Vec3> positions(n);
   const std::vector<double> model_nu = model_.nodal_artificial_viscosity();
   std::vector<double> nu(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const auto k = static_cast<std::size_t>(new_index_[i]);
+    const auto k = static_cast<std::size_t>(model_node[i]);
     positions[i] = model_.positions()[k];
     nu[i] = model_nu[k];
   }
-  const auto all = views();
   const auto field = [&](std::string_view name) {
-    const auto& f = *std::find_if(all.begin(), all.end(), [&](const io::FieldView& v) { return v.quantity == name; });
-    return whole_field(n, f.components, f.at);
+    const auto q = std::size_t(std::find_if(kFluidQuantities.begin(), kFluidQuantities.end(),
+                                            [&](const FluidQuantityName& f) { return f.name == name; }) -
+                               kFluidQuantities.begin());
+    return whole_field(n, kFluidQuantities[q].components,
+                       [&](Index i, double* out) { value(q, model_node[std::size_t(i)], out); });
   };
   const std::vector<double> density = field("density"), velocity = field("velocity"), pressure = field("pressure"),
                             mach = field("mach"), temperature = field("temperature"),

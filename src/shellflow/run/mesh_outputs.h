@@ -10,6 +10,8 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <functional>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -38,17 +40,32 @@ class MeshOutput {
   /// Writes <mesh>_<step>.vtu of the current state at time (or load level) t and adds it to
   /// <mesh>.pvd.
   virtual void write(long step, double t) = 0;
+  /// Called on every rank before the probes read views() (a distributed flow gathers the
+  /// probed nodes' values from their owners here).
+  virtual void prepare_sample() {}
   io::PvdWriter& pvd() { return pvd_; }
 
+  /// A distributed run's frames: each rank writes its piece `<mesh>_<step>_p<rank>.vtu` of
+  /// `piece` (the cells it owns), rank 0 the `<mesh>_<step>.pvtu` that joins the `count`
+  /// pieces, and the `.pvd` lists the `.pvtu`. `piece` must outlive the output.
+  void set_pieces(const mesh::Mesh& piece, int rank, int count);
+
  protected:
-  /// The frame itself: the fields on the mesh at `positions` (empty: the mesh's nodes).
+  /// The frame itself: the fields on the mesh (or this rank's piece) at `positions` (empty:
+  /// the mesh's nodes).
   void write_frame(long step, double t, std::vector<io::VtuField> fields, std::span<const Vec3> positions = {});
 
   const mesh::Mesh& mesh_;
 
  private:
+  struct Pieces {
+    const mesh::Mesh* mesh = nullptr;
+    int rank = 0;
+    int count = 1;
+  };
   std::filesystem::path outdir_;
   io::PvdWriter pvd_;
+  std::optional<Pieces> pieces_;
 };
 
 /// The initial state of a mesh no solver of the run moves: the shell at rest, the fluid at
@@ -85,16 +102,29 @@ class ShellOutput final : public MeshOutput {
 
 /// The flow's fields in the case mesh's node order (the solver runs on a renumbered copy:
 /// new_index[i] is the solver's node of case node i).
+struct FluidPieces;
+class ProbeGather;
+
 class FluidOutput final : public MeshOutput {
  public:
   FluidOutput(const mesh::Mesh& case_mesh, std::span<const Index> new_index, fluid::FluidModel& model,
               const std::filesystem::path& outdir, io::OutputMode mode);
+  /// A rank's output of a distributed flow (fluid_pieces.h): frames of its piece, probe views
+  /// of every case node from their owners. `pieces` must outlive the output.
+  FluidOutput(const mesh::Mesh& case_mesh, const FluidPieces& pieces, fluid::FluidModel& model,
+              const std::filesystem::path& outdir, io::OutputMode mode);
+  ~FluidOutput() override;
   std::vector<io::FieldView> views() const override;
+  void prepare_sample() override;
   void write(long step, double t) override;
 
  private:
-  std::span<const Index> new_index_;
-  fluid::FluidModel& model_;  ///< non-const: the frames' artificial viscosity is computed on demand
+  /// Quantity `q` (kFluidQuantities' index) at the model's node k.
+  void value(std::size_t q, Index k, double* out) const;
+  std::span<const Index> new_index_;  ///< case node -> model node
+  fluid::FluidModel& model_;          ///< non-const: the frames' artificial viscosity is computed on demand
+  const FluidPieces* pieces_ = nullptr;
+  std::unique_ptr<ProbeGather> gather_;
 };
 
 /// A fluid mesh moved without a flow (mesh-motion runs, coupled runs without loads):

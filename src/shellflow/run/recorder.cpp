@@ -37,6 +37,7 @@ void Recorder::record(long step, double t, Record what) {
     ~AddTime() { sum += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); }
   } add_time{seconds_, start};
   if (what != Record::fields) {
+    for (MeshOutput* o : outputs_) o->prepare_sample();
     const std::vector<double> values = probes_.record(t, views());
     if (on_sample_) on_sample_(t, values);
   }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "shellflow/dist/communicator.h"
 #include "shellflow/io/case.h"
 #include "shellflow/run/run_control.h"
 
@@ -18,6 +19,8 @@ struct RunOptions {
   std::optional<std::filesystem::path> output_dir;  ///< -o; default: the case's output.directory
   bool plot = true;                                 ///< draw the PNG plots at the end
   StopOptions stop;                                 ///< --stop-after, --stop-at-wall, --restart
+  /// The MPI ranks of a distributed run (mpirun -np N with N > 1); null: one process.
+  const dist::Communicator* ranks = nullptr;
 };
 
 /// Runs case `c`. Returns 0, or kStoppedExitCode when the run stopped with a checkpoint.

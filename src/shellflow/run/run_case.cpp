@@ -52,33 +52,75 @@ void run_kind(const RunContext& run) {
   }
 }
 
+/// What a run on several ranks can do (docs/parallel.md): a flow run; refused with one line,
+/// the same on every rank, before anything is written.
+void check_distributable(const io::Case& c, const RunOptions& options) {
+  const int n = options.ranks->size();
+  const char* kind = c.coupling                        ? "a coupled run"
+                     : c.motion                        ? "a mesh-motion run"
+                     : c.shell && c.shell->analysis    ? "a shell run"
+                     : !(c.fluid && c.fluid->analysis) ? "a case without an analysis"
+                                                       : nullptr;
+  if (kind)
+    throw InputError(fmt::format(
+        "{}: {} does not run on {} MPI ranks yet (only flow runs, 'fluid.analysis', do; docs/parallel.md): run it "
+        "without mpirun (its threads use the machine's cores)",
+        c.file.string(), kind, n));
+}
+
 }  // namespace
 
 int run_case(const io::Case& c, const RunOptions& options) {
+  const dist::Communicator* ranks = options.ranks;
+  const bool root = !ranks || ranks->rank() == 0;
+  if (ranks) check_distributable(c, options);
   // 1. The output folder and the meshes, from the folder's mesh cache while their inputs are
   // unchanged (a restart reads the cache but saves nothing: the folder keeps the run's own).
+  // On ranks, rank 0 makes the folder and meshes; the others then read its mesh cache.
   std::optional<io::Checkpoint> checkpoint;
-  const OutputFolder folder = output_folder(c, options, checkpoint);
+  OutputFolder folder;
+  std::optional<io::CaseMeshes> meshes;
+  const auto load = [&] {
+    folder = output_folder(c, options, checkpoint);
+    meshes.emplace(checkpoint ? io::load_case_meshes(c, std::nullopt, folder.path)  // reads the cache
+                              : io::load_case_meshes(c, folder.path));
+  };
+  dist::on_every_rank(ranks, [&] {
+    if (root) load();
+  });
+  if (!root) {
+    std::string path = folder.path.string();
+    ranks->broadcast(path);
+    folder.path = path;
+    dist::on_every_rank(ranks, [&] {
+      checkpoint = options.stop.restart ? std::optional(load_restart(*options.stop.restart, c)) : std::nullopt;
+      meshes.emplace(io::load_case_meshes(c, std::nullopt, folder.path));
+    });
+  } else if (ranks) {
+    std::string path = folder.path.string();
+    ranks->broadcast(path);
+    dist::on_every_rank(ranks, [] {});
+  }
   const std::filesystem::path& outdir = folder.path;
-  spdlog::info("case '{}' -> {}", c.name, outdir.string());
-  const io::CaseMeshes meshes = checkpoint ? io::load_case_meshes(c, std::nullopt, outdir)  // reads the cache
-                                           : io::load_case_meshes(c, outdir);
+  spdlog::info("case '{}' -> {}{}", c.name, outdir.string(),
+               ranks ? fmt::format(" ({} MPI ranks)", ranks->size()) : std::string());
   // 2. The checkpoint control; only now, with the case read and meshed, the earlier run's
   // output goes (a case with an error keeps the old results; not for `study`, whose folder
   // holds the points of a study to resume).
   std::vector<io::SectionDigest> digests = c.digests;
-  for (const mesh::Mesh* m : meshes.all()) digests.push_back(io::mesh_digest(*m));
-  RunControl control(c, outdir, options.stop, std::move(checkpoint), std::move(digests));
-  if (!control.restarting()) remove_previous_run_output(outdir);
+  for (const mesh::Mesh* m : meshes->all()) digests.push_back(io::mesh_digest(*m));
+  RunControl control(c, outdir, options.stop, std::move(checkpoint), std::move(digests), ranks);
+  if (!control.restarting() && root) remove_previous_run_output(outdir);
   // 3. The recorder and the run.
-  Recorder recorder(c, meshes, outdir, control.output_mode());
+  Recorder recorder(c, *meshes, outdir, control.output_mode());
   PlotJobs plots;
   const auto start = std::chrono::steady_clock::now();
-  run_kind({c, meshes, outdir, control, recorder, plots});
+  run_kind({c, *meshes, outdir, control, recorder, plots, ranks});
   control.log_summary(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-  spdlog::info("wrote {}: <mesh>_NNNNNN.vtu, <mesh>.pvd, probes.csv", outdir.string());
-  // 4. The plots: the probes first, then the run kind's.
-  if (options.plot) {
+  spdlog::info("wrote {}: <mesh>_NNNNNN.{}, <mesh>.pvd, probes.csv", outdir.string(),
+               ranks ? "pvtu (+ one .vtu piece per rank)" : "vtu");
+  // 4. The plots (rank 0): the probes first, then the run kind's.
+  if (options.plot && root) {
     plots.insert(plots.begin(), {"plot_probes.py", probe_plot_arguments(c, outdir)});
     make_plots(plots);
   }

@@ -4,6 +4,7 @@
 // plots drawn when the run ends.
 #include <filesystem>
 
+#include "shellflow/dist/communicator.h"
 #include "shellflow/io/case.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/run/output_dir.h"
@@ -19,6 +20,9 @@ struct RunContext {
   RunControl& control;
   Recorder& recorder;
   PlotJobs& plots;
+  /// The ranks of a distributed run (every rank runs the same code; rank 0 alone writes the
+  /// output folder, core/output_file.h); null in one process.
+  const dist::Communicator* ranks = nullptr;
 };
 
 }  // namespace shellflow::run

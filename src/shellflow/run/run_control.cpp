@@ -103,7 +103,7 @@ io::Checkpoint load_restart(const fs::path& path, const io::Case& c) {
 }
 
 RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options, std::optional<io::Checkpoint> restart,
-                       std::vector<io::SectionDigest> digests)
+                       std::vector<io::SectionDigest> digests, const dist::Communicator* ranks)
     : case_(c),
       outdir_(std::move(outdir)),
       options_(std::move(options)),
@@ -111,6 +111,7 @@ RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options, 
       digests_(std::move(digests)),
       every_(c.output.checkpoint_every),
       start_(process_start()) {
+  ranks_ = ranks;
   if (restart_) {
     const io::CheckpointHeader now = current_header(c, digests_);
     if (const std::string why = io::checkpoint_mismatch(*restart_, now); !why.empty()) throw Error(why);
@@ -213,9 +214,9 @@ void RunControl::restore(const std::function<double()>& time, long steps, double
 }
 
 bool RunControl::stop_due(long steps_done) const {
-  if (g_stop_signal != 0) return true;
-  if (options_.stop_after && steps_done >= *options_.stop_after) return true;
-  return options_.stop_at_wall && seconds_since(start_) >= *options_.stop_at_wall;
+  const bool here = g_stop_signal != 0 || (options_.stop_after && steps_done >= *options_.stop_after) ||
+                    (options_.stop_at_wall && seconds_since(start_) >= *options_.stop_at_wall);
+  return ranks_ ? ranks_->any(here) : here;
 }
 
 void RunControl::write_checkpoint(long step, double time) {

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "shellflow/core/archive.h"
+#include "shellflow/dist/communicator.h"
 #include "shellflow/io/case.h"
 #include "shellflow/io/checkpoint.h"
 #include "shellflow/io/probe_writer.h"
@@ -41,8 +42,12 @@ class RunControl {
  public:
   /// `restart`: the verified checkpoint this run continues (nullopt: a new run). Installs
   /// Throws Error when the checkpoint's meshes differ from this run's (`digests`).
+  /// `ranks`: the ranks of a distributed run (null: one process); a stop is then decided on
+  /// all of them together (a signal or the wall clock of any rank stops every rank at the same
+  /// step).
   RunControl(const io::Case& c, std::filesystem::path outdir, StopOptions options,
-             std::optional<io::Checkpoint> restart, std::vector<io::SectionDigest> digests);
+             std::optional<io::Checkpoint> restart, std::vector<io::SectionDigest> digests,
+             const dist::Communicator* ranks = nullptr);
   ~RunControl();
   RunControl(const RunControl&) = delete;
   RunControl& operator=(const RunControl&) = delete;
@@ -50,6 +55,8 @@ class RunControl {
   /// How writers of this run open their files: resume on a restart.
   io::OutputMode output_mode() const { return restart_ ? io::OutputMode::resume : io::OutputMode::create; }
   bool restarting() const { return restart_.has_value(); }
+  /// The ranks of a distributed run (null: one process).
+  const dist::Communicator* ranks() const { return ranks_; }
   /// The checkpoint this run continues (null for a new run).
   const io::Checkpoint* restart() const { return restart_ ? &*restart_ : nullptr; }
   /// The first step this invocation makes (1, or the checkpoint's step + 1).
@@ -95,6 +102,7 @@ class RunControl {
   const io::Case& case_;
   std::filesystem::path outdir_;
   StopOptions options_;
+  const dist::Communicator* ranks_ = nullptr;
   std::optional<io::Checkpoint> restart_;
   std::vector<io::SectionDigest> digests_;
   long every_ = 0;

@@ -68,10 +68,13 @@ long step_in_time(RunControl& control, Recorder& recorder, const TimeStepping& s
     control.restore(s.time, s.loop.steps, s.loop.end_time);
   } else {
     if (s.before_frame_0) s.before_frame_0();
-    recorder.record(0, s.time(), Record::probes_and_fields);
+    dist::on_every_rank(control.ranks(), [&] { recorder.record(0, s.time(), Record::probes_and_fields); });
   }
-  return run_time_loop(
-      s.loop, s.advance, [&](long step, Record what) { recorder.record(step, s.time(), what); }, s.time, &control);
+  // On ranks a failed write (rank 0's) ends every rank at once.
+  const auto record = [&](long step, Record what) {
+    dist::on_every_rank(control.ranks(), [&] { recorder.record(step, s.time(), what); });
+  };
+  return run_time_loop(s.loop, s.advance, record, s.time, &control);
 }
 
 }  // namespace shellflow::run

@@ -1,6 +1,8 @@
 #include "shellflow/setup/fluid_setup.h"
 
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/ordering.h"
@@ -100,14 +102,28 @@ std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection
   return conditions;
 }
 
-Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh) {
+Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh, int rank, int ranks) {
   Flow flow;
   mesh::Mesh mesh = case_mesh;
   flow.new_index = fluid::renumber_for_locality(mesh);
+  std::optional<fluid::CellColouring> colouring;
+  if (ranks > 1) {
+    auto part = std::make_unique<FlowPart>();
+    part->ranks = ranks;
+    part->cell_part = mesh::partition_cells(mesh, ranks);
+    part->node_owner = mesh::node_owners(mesh, part->cell_part);
+    part->local = mesh::make_local_part(mesh, part->node_owner, rank);
+    colouring = fluid::restrict_colouring(
+        fluid::colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), fluid::default_block_size(mesh.num_cells())),
+        part->local.cells);
+    part->whole = std::exchange(mesh, mesh::local_mesh(mesh, part->local));
+    flow.part = std::move(part);
+  }
   const io::FluidMeshMotion* motion = section.mesh_motion ? &*section.mesh_motion : nullptr;
   if (motion) flow.mesh_velocity = std::make_unique<std::vector<Vec3>>(mesh.nodes.size(), Vec3::Zero());
-  flow.model = std::make_unique<fluid::FluidModel>(std::move(mesh), fluid_options(section),
-                                                   boundary_conditions(section, flow.mesh_velocity.get()));
+  flow.model =
+      std::make_unique<fluid::FluidModel>(std::move(mesh), fluid_options(section),
+                                          boundary_conditions(section, flow.mesh_velocity.get()), std::move(colouring));
   fluid::FluidModel& model = *flow.model;
   const io::FluidAnalysis* analysis = section.analysis ? &*section.analysis : nullptr;
   if (analysis && analysis->riemann) {

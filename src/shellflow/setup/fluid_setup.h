@@ -6,6 +6,7 @@
 #include "shellflow/fluid/fluid_model.h"
 #include "shellflow/io/case.h"
 #include "shellflow/mesh/mesh.h"
+#include "shellflow/mesh/partition.h"
 
 namespace shellflow::setup {
 
@@ -26,16 +27,35 @@ fluid::Primitive primitive(const io::SpaceTimeState& s, const Vec3& X, double t)
 std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection& section,
                                                           const std::vector<Vec3>* mesh_velocity);
 
+/// One rank's share of a flow distributed over `ranks` ranks (docs/parallel.md): the whole
+/// renumbered mesh (every rank holds it), the METIS part of each of its cells, the owner of each
+/// node, and the rank's local part, on whose local mesh the rank's model runs.
+struct FlowPart {
+  mesh::Mesh whole;             ///< the case mesh renumbered (Flow::new_index)
+  std::vector<int> cell_part;   ///< part of each cell of `whole`
+  std::vector<int> node_owner;  ///< owner rank of each node of `whole`
+  mesh::LocalPart local;        ///< this rank's: local node i is whole node local.nodes[i]
+  int ranks = 1;
+};
+
 /// The flow of a flow run: the case's fluid mesh renumbered for memory locality
 /// (new_index[i] is the solver's node of case node i), its boundary conditions and its
 /// initial state (the analysis's Riemann problem or initial field, else the free stream).
 /// With a prescribed mesh motion (fluid.mesh_motion), `mesh_velocity` holds the nodal mesh
 /// velocity the walls follow, set to the motion's at t = 0.
+///
+/// With `ranks` > 1 the model is rank `rank`'s part (`part`): the renumbered mesh is split by
+/// METIS into `ranks` parts, and the model runs on the rank's local mesh with the whole mesh's
+/// colouring restricted to it (the same bits on any rank count); new_index still maps case
+/// nodes to the whole renumbered mesh, part->local maps those to the model's nodes. The caller
+/// hands the model its distribution (dist/flow_distribution.h). Every rank computes the same
+/// partition (METIS with a fixed seed).
 struct Flow {
   std::unique_ptr<fluid::FluidModel> model;
   std::vector<Index> new_index;
   std::unique_ptr<std::vector<Vec3>> mesh_velocity;  ///< null on a fixed mesh
+  std::unique_ptr<FlowPart> part;                    ///< null in one process
 };
-Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh);
+Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh, int rank = 0, int ranks = 1);
 
 }  // namespace shellflow::setup
