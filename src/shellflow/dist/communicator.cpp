@@ -76,6 +76,18 @@ std::vector<double> Communicator::all_gather(const std::vector<double>& values) 
   return out;
 }
 
+std::vector<double> Communicator::gather(const std::vector<double>& values, int root) const {
+  const int count = static_cast<int>(values.size());
+  std::vector<int> counts(static_cast<std::size_t>(size_)), offsets(static_cast<std::size_t>(size_) + 1, 0);
+  check(MPI_Gather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, root, MPI_COMM_WORLD), "MPI_Gather (counts)");
+  for (std::size_t r = 0; r < counts.size(); ++r) offsets[r + 1] = offsets[r] + counts[r];
+  std::vector<double> out(rank_ == root ? std::size_t(offsets.back()) : 0);
+  check(MPI_Gatherv(values.data(), count, MPI_DOUBLE, out.data(), counts.data(), offsets.data(), MPI_DOUBLE, root,
+                    MPI_COMM_WORLD),
+        "MPI_Gatherv");
+  return out;
+}
+
 double Communicator::sum_in_rank_order(double value) const {
   double total = 0.0;
   for (const double v : all_gather({value})) total += v;

@@ -33,6 +33,8 @@ class Communicator {
   double sum_in_rank_order(double value) const;
   /// Every rank's values, concatenated in rank order.
   std::vector<double> all_gather(const std::vector<double>& values) const;
+  /// Every rank's values, concatenated in rank order, on rank `root` (empty on the others).
+  std::vector<double> gather(const std::vector<double>& values, int root = 0) const;
   /// `text` of rank `root` on every rank.
   void broadcast(std::string& text, int root = 0) const;
   void barrier() const;

@@ -1,5 +1,12 @@
 #include "shellflow/dist/flow_distribution.h"
 
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <type_traits>
+
+#include "shellflow/core/error.h"
+
 namespace shellflow::dist {
 
 fluid::FluidModel::Distribution flow_distribution(const Communicator& comm, HaloExchange& halo,
@@ -7,6 +14,83 @@ fluid::FluidModel::Distribution flow_distribution(const Communicator& comm, Halo
   return {[&halo](std::span<double* const> fields) { halo.exchange(fields); },
           [&comm](double x) { return comm.min(x); }, [&comm](double x) { return comm.sum_in_rank_order(x); },
           [&comm](const std::string& message) { return comm.first_error(message); }, part.num_owned};
+}
+
+namespace {
+
+/// The owned entries (`components` values per node) of every rank in whole node order, on
+/// rank 0: each rank sends its owned nodes' whole indices and values.
+std::vector<double> gather_whole(const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes,
+                                 int components, const double* local) {
+  std::vector<double> mine;
+  mine.reserve(std::size_t(part.num_owned) * std::size_t(components + 1));
+  for (Index i = 0; i < part.num_owned; ++i) {
+    mine.push_back(double(part.nodes[std::size_t(i)]));
+    for (int c = 0; c < components; ++c) mine.push_back(local[std::size_t(i) * std::size_t(components) + std::size_t(c)]);
+  }
+  const std::vector<double> all = comm.gather(mine);
+  if (comm.rank() != 0) return mine;  // not written (rank 0 writes)
+  std::vector<double> whole(std::size_t(whole_nodes) * std::size_t(components), 0.0);
+  const std::size_t stride = std::size_t(components) + 1;
+  if (all.size() != std::size_t(whole_nodes) * stride)
+    throw Error(fmt::format("distributed flow state: {} values gathered for {} nodes", all.size(), whole_nodes));
+  for (std::size_t k = 0; k < all.size(); k += stride)
+    std::copy_n(all.begin() + std::ptrdiff_t(k + 1), components,
+                whole.begin() + std::ptrdiff_t(std::size_t(all[k]) * std::size_t(components)));
+  return whole;
+}
+
+}  // namespace
+
+void save_whole(const fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part,
+                Index whole_nodes, ArchiveWriter& out) {
+  const fluid::FluidSnapshot s = model.snapshot();
+  for (const auto& w : s.wall_velocity)
+    if (!w.empty())
+      throw Error("a distributed flow with wall velocities set per node (a coupled run) has no checkpoint yet");
+  for (const auto& v : s.U.var) out.put(gather_whole(comm, part, whole_nodes, 1, v.data()));
+  for (const auto* field : {&s.x, &s.w}) {
+    const std::vector<double> whole = gather_whole(comm, part, whole_nodes, 3, (*field)[0].data());
+    std::vector<Vec3> vectors(whole.size() / 3);
+    for (std::size_t a = 0; a < vectors.size(); ++a) vectors[a] = Vec3(whole[3 * a], whole[3 * a + 1], whole[3 * a + 2]);
+    out.put(vectors);
+  }
+  out.put(s.time);
+  out.put(s.steps);
+  out.put(static_cast<std::uint64_t>(s.wall_velocity.size()));
+  for (const auto& w : s.wall_velocity) out.put(w);
+  out.put(s.density_rate);
+}
+
+void restore_whole(fluid::FluidModel& model, const mesh::LocalPart& part, Index whole_nodes, ArchiveReader& in) {
+  fluid::FluidSnapshot s;
+  const auto nn = std::size_t(whole_nodes);
+  const auto local = [&](const auto& whole) {
+    std::remove_cvref_t<decltype(whole)> out(part.nodes.size());
+    for (std::size_t i = 0; i < part.nodes.size(); ++i) out[i] = whole[std::size_t(part.nodes[i])];
+    return out;
+  };
+  for (auto& v : s.U.var) {
+    const auto whole = in.get_vector<double>();
+    in.expect_size("the flow's state", whole.size(), nn);
+    v = local(whole);
+  }
+  for (auto* field : {&s.x, &s.w}) {
+    const auto whole = in.get_vec3s();
+    in.expect_size("the fluid node positions and velocities", whole.size(), nn);
+    *field = local(whole);
+  }
+  s.time = in.get<double>();
+  s.steps = in.get<long>();
+  const auto walls = in.get<std::uint64_t>();
+  in.expect_size("the flow's wall conditions", walls, model.snapshot().wall_velocity.size());
+  for (std::uint64_t k = 0; k < walls; ++k) {
+    s.wall_velocity.push_back(in.get_vec3s());
+    if (!s.wall_velocity.back().empty())
+      throw Error(in.what() + ": wall velocities set per node (a coupled run's) do not restart on ranks yet");
+  }
+  s.density_rate = in.get<double>();
+  model.restore(s);
 }
 
 }  // namespace shellflow::dist

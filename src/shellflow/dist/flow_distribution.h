@@ -1,6 +1,7 @@
 #pragma once
 // A flow model on a rank's part of the mesh (fluid::FluidModel::set_distribution) over the
 // world's ranks: the ghost exchange of the rank's local part and the ranks' reductions.
+#include "shellflow/core/archive.h"
 #include "shellflow/dist/communicator.h"
 #include "shellflow/dist/halo_exchange.h"
 #include "shellflow/fluid/fluid_model.h"
@@ -12,5 +13,16 @@ namespace shellflow::dist {
 /// `halo` must outlive the model.
 fluid::FluidModel::Distribution flow_distribution(const Communicator& comm, HaloExchange& halo,
                                                   const mesh::LocalPart& part);
+
+/// A distributed model's state in the form FluidModel::save gives it for the whole mesh (the
+/// nodes in the order of the mesh `part` was cut from, `whole_nodes` of them): gathered from
+/// the owners, complete on rank 0 (the others put the same layout with their part only, for
+/// the writes they skip: core/output_file.h). A checkpoint of it restarts on any number of
+/// ranks, or in one process. Throws Error when wall velocities were set per node (the coupled
+/// run's; not distributed).
+void save_whole(const fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part,
+                Index whole_nodes, ArchiveWriter& out);
+/// The inverse on every rank: the whole state read, this rank's nodes taken.
+void restore_whole(fluid::FluidModel& model, const mesh::LocalPart& part, Index whole_nodes, ArchiveReader& in);
 
 }  // namespace shellflow::dist

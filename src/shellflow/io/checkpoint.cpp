@@ -139,6 +139,8 @@ std::uint64_t write_checkpoint(const fs::path& dir, const CheckpointHeader& head
   } catch (const Error& e) {
     throw Error(fmt::format("{}; the previous checkpoints are kept", e.what()));
   }
+  const std::uint64_t bytes = kMagic.size() + prefix.bytes().size() + h.size() + payload.size();
+  if (!process_writes_files()) return bytes;  // a distributed run's other ranks: rank 0 writes it
   std::error_code ec;
   // The new one is complete: keep it and the newest other one; drop the .tmp a killed
   // write left.
@@ -157,7 +159,7 @@ std::uint64_t write_checkpoint(const fs::path& dir, const CheckpointHeader& head
     }
     fs::remove(it->second, ec);
   }
-  return kMagic.size() + prefix.bytes().size() + h.size() + payload.size();
+  return bytes;
 }
 
 namespace {

@@ -73,6 +73,12 @@ void ProbeWriter::save(ArchiveWriter& out) const {
 void ProbeWriter::restore(ArchiveReader& in) {
   const auto bytes = in.get<std::uint64_t>();
   const auto rows = in.get<std::uint64_t>();
+  if (!process_writes_files()) {  // a distributed run's other ranks: rank 0 continues the file
+    out_ = AppendFile(path_, AppendFile::Mode::append);
+    bytes_ = bytes;
+    rows_ = rows;
+    return;
+  }
   // Opened first (never through a link), then measured, checked and cut back through that
   // descriptor.
   AppendFile file;

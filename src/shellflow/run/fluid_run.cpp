@@ -86,13 +86,22 @@ void run_fluid(const RunContext& run) {
   stepping.loop = {0, run.c.output.every, steady ? double(analysis.steps) : run.c.time->end, run.outdir, more};
   stepping.advance = advance;
   stepping.time = [&] { return model.time(); };
+  // On ranks the checkpoint holds the whole mesh's state, as one process writes it: it restarts
+  // on any number of ranks.
+  const Index whole_nodes = flow.part ? flow.part->whole.num_nodes() : 0;
   stepping.save = [&](ArchiveWriter& out) {
-    model.save(out);
+    if (ranks)
+      dist::save_whole(model, *ranks, flow.part->local, whole_nodes, out);
+    else
+      model.save(out);
     out.put(first_density_rate);
     out.put(converged);
   };
   stepping.restore = [&](ArchiveReader& in) {
-    model.restore(in);
+    if (ranks)
+      dist::restore_whole(model, flow.part->local, whole_nodes, in);
+    else
+      model.restore(in);
     first_density_rate = in.get<double>();
     converged = in.get<bool>();
   };

@@ -112,19 +112,31 @@ OutputFolder prepare_output_dir(const io::Case& c, const std::optional<std::file
   return open_output_dir(dir);
 }
 
+std::optional<FrameFile> frame_file(std::string_view name) {
+  const bool parallel = name.ends_with(".pvtu");
+  if (!parallel && !name.ends_with(".vtu")) return std::nullopt;
+  name.remove_suffix(parallel ? 5 : 4);
+  for (const std::string_view mesh : io::kMeshKeys) {
+    if (name.size() < mesh.size() + 7 || !name.starts_with(mesh) || name[mesh.size()] != '_') continue;
+    const std::string_view digits = name.substr(mesh.size() + 1, 6);
+    const std::string_view rest = name.substr(mesh.size() + 7);  // "" or (a piece) "_p<rank>"
+    const bool piece = !parallel && rest.size() > 2 && rest.starts_with("_p") && all_digits(rest.substr(2), 1);
+    if (!all_digits(digits, 6) || (!rest.empty() && !piece)) continue;
+    const std::string frame = std::string(name.substr(0, mesh.size() + 7));
+    return FrameFile{std::stol(std::string(digits)), frame + (parallel || piece ? ".pvtu" : ".vtu")};
+  }
+  return std::nullopt;
+}
+
 bool is_run_output_name(const std::string& full) {
   if (io::is_checkpoint_name(full)) return true;
   std::string_view name = full;
   if (name.ends_with(".tmp")) name.remove_suffix(4);  // a write interrupted by a crash
   if (std::find(kRunOutputNames.begin(), kRunOutputNames.end(), name) != kRunOutputNames.end()) return true;
+  if (frame_file(name)) return true;
   if (!name.ends_with(".vtu")) return false;
   name.remove_suffix(4);
-  // <mesh>_NNNNNN.vtu (6 digits) and shell_mode_NN.vtu (2 or more).
-  for (const std::string_view mesh : io::kMeshKeys) {
-    if (name.size() == mesh.size() + 7 && name.starts_with(mesh) && name[mesh.size()] == '_' &&
-        all_digits(name.substr(mesh.size() + 1), 6))
-      return true;
-  }
+  // shell_mode_NN.vtu (2 or more digits).
   constexpr std::string_view mode = "shell_mode_";
   return name.starts_with(mode) && all_digits(name.substr(mode.size()), 2);
 }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "shellflow/core/output_file.h"
@@ -17,6 +18,15 @@ struct OutputFolder {
   std::filesystem::path path;
   OutputLock lock;
 };
+
+/// A frame file of a run: `<mesh>_NNNNNN.vtu`, or of a distributed run `<mesh>_NNNNNN.pvtu` and
+/// its pieces `<mesh>_NNNNNN_p<rank>.vtu`. `entry` is the name its `.pvd` lists (the `.pvtu`
+/// for a piece).
+struct FrameFile {
+  long step = 0;
+  std::string entry;
+};
+std::optional<FrameFile> frame_file(std::string_view name);
 
 /// The output directory of a run (`output_dir` = -o, else the case's output.directory),
 /// created, checked and locked (open_output_dir). Refused with one line: the root folder or

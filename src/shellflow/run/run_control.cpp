@@ -12,6 +12,7 @@
 #include <set>
 
 #include "shellflow/core/error.h"
+#include "shellflow/core/output_file.h"
 #include "shellflow/core/version.h"
 #include "shellflow/fluid/residual.h"
 #include "shellflow/run/output_dir.h"
@@ -46,22 +47,6 @@ extern "C" void on_stop_signal(int sig) {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-/// The step of `<mesh>_NNNNNN.vtu`, or -1.
-long frame_step(const std::string& name) {
-  for (const std::string_view mesh : io::kMeshKeys) {
-    if (name.size() != mesh.size() + 11 || !name.starts_with(mesh) || name[mesh.size()] != '_' ||
-        !name.ends_with(".vtu"))
-      continue;
-    long step = 0;
-    for (std::size_t i = mesh.size() + 1; i < mesh.size() + 7; ++i) {
-      if (!std::isdigit(static_cast<unsigned char>(name[i]))) return -1;
-      step = 10 * step + (name[i] - '0');
-    }
-    return step;
-  }
-  return -1;
 }
 
 }  // namespace
@@ -202,12 +187,13 @@ void RunControl::restore(const std::function<double()>& time, long steps, double
   for (fs::directory_iterator it(outdir_, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (it->symlink_status(ec).type() != fs::file_type::regular) continue;
-    const long s = frame_step(name);
-    if ((s >= 0 && (s > step || (s == step && !listed.contains(name)))) ||
+    const auto frame = frame_file(name);
+    if ((frame && (frame->step > step || (frame->step == step && !listed.contains(frame->entry)))) ||
         (name.ends_with(".tmp") && is_run_output_name(name)))
       later.push_back(it->path());
   }
   std::size_t removed = 0;
+  if (!process_writes_files()) later.clear();  // a distributed run's other ranks: rank 0 removes them
   for (const fs::path& p : later) removed += fs::remove(p, ec) ? 1 : 0;
   if (removed > 0) spdlog::info("restart: removed {} file(s) written after the checkpoint", removed);
   restored_ = true;
