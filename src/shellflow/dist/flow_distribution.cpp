@@ -26,7 +26,8 @@ std::vector<double> gather_whole(const Communicator& comm, const mesh::LocalPart
   mine.reserve(std::size_t(part.num_owned) * std::size_t(components + 1));
   for (Index i = 0; i < part.num_owned; ++i) {
     mine.push_back(double(part.nodes[std::size_t(i)]));
-    for (int c = 0; c < components; ++c) mine.push_back(local[std::size_t(i) * std::size_t(components) + std::size_t(c)]);
+    for (int c = 0; c < components; ++c)
+      mine.push_back(local[std::size_t(i) * std::size_t(components) + std::size_t(c)]);
   }
   const std::vector<double> all = comm.gather(mine);
   if (comm.rank() != 0) return mine;  // not written (rank 0 writes)
@@ -52,7 +53,8 @@ void save_whole(const fluid::FluidModel& model, const Communicator& comm, const 
   for (const auto* field : {&s.x, &s.w}) {
     const std::vector<double> whole = gather_whole(comm, part, whole_nodes, 3, (*field)[0].data());
     std::vector<Vec3> vectors(whole.size() / 3);
-    for (std::size_t a = 0; a < vectors.size(); ++a) vectors[a] = Vec3(whole[3 * a], whole[3 * a + 1], whole[3 * a + 2]);
+    for (std::size_t a = 0; a < vectors.size(); ++a)
+      vectors[a] = Vec3(whole[3 * a], whole[3 * a + 1], whole[3 * a + 2]);
     out.put(vectors);
   }
   out.put(s.time);

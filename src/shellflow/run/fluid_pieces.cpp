@@ -23,15 +23,16 @@ FluidPieces make_fluid_pieces(const setup::Flow& flow, const dist::Communicator&
     p.case_to_model[i] = model_of[std::size_t(flow.new_index[i])];
     p.case_owner[i] = part.node_owner[std::size_t(flow.new_index[i])];
   }
-  // The piece: the model's cells METIS gave this rank (local.cells are whole cells, in the
-  // model mesh's cell order), on the model nodes they use.
+  // The piece: the model's cells whose first node the rank owns (each cell has one such rank,
+  // and holds the cell: it is a cell of an owned node), on the model nodes they use.
   p.piece.name = model_mesh.name;
   p.piece.source = model_mesh.source;
   p.piece.cells.type = model_mesh.cells.type;
   std::vector<Index> piece_of(model_mesh.nodes.size(), -1);
-  for (std::size_t c = 0; c < local.cells.size(); ++c) {
-    if (part.cell_part[std::size_t(local.cells[c])] != ranks.rank()) continue;
-    for (const Index k : model_mesh.cells.element(Index(c))) {
+  for (Index c = 0; c < model_mesh.num_cells(); ++c) {
+    const auto cell = model_mesh.cells.element(c);
+    if (cell[0] >= local.num_owned) continue;  // owned nodes come first
+    for (const Index k : cell) {
       Index& n = piece_of[std::size_t(k)];
       if (n < 0) {
         n = Index(p.piece_to_model.size());

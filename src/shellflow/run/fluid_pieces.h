@@ -17,7 +17,7 @@ namespace shellflow::run {
 /// The fluid frames' piece of one rank and the maps from case nodes to its model.
 struct FluidPieces {
   const dist::Communicator* ranks = nullptr;
-  mesh::Mesh piece;                   ///< the cells METIS gave the rank, on the nodes they use
+  mesh::Mesh piece;                   ///< the cells whose first node the rank owns, on the nodes they use
   std::vector<Index> piece_to_model;  ///< model node of each piece node
   std::vector<Index> case_to_model;   ///< model node of each case node; -1: not on this rank
   std::vector<int> case_owner;        ///< owner rank of each case node

@@ -110,8 +110,7 @@ Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh, in
   if (ranks > 1) {
     auto part = std::make_unique<FlowPart>();
     part->ranks = ranks;
-    part->cell_part = mesh::partition_cells(mesh, ranks);
-    part->node_owner = mesh::node_owners(mesh, part->cell_part);
+    part->node_owner = mesh::node_owners(mesh, mesh::partition_cells(mesh, ranks));
     part->local = mesh::make_local_part(mesh, part->node_owner, rank);
     colouring = fluid::restrict_colouring(
         fluid::colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), fluid::default_block_size(mesh.num_cells())),

@@ -28,11 +28,11 @@ std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection
                                                           const std::vector<Vec3>* mesh_velocity);
 
 /// One rank's share of a flow distributed over `ranks` ranks (docs/parallel.md): the whole
-/// renumbered mesh (every rank holds it), the METIS part of each of its cells, the owner of each
-/// node, and the rank's local part, on whose local mesh the rank's model runs.
+/// renumbered mesh (every rank holds it), the owner of each of its nodes (METIS parts of the
+/// cells, mesh::node_owners), and the rank's local part, on whose local mesh the rank's model
+/// runs.
 struct FlowPart {
   mesh::Mesh whole;             ///< the case mesh renumbered (Flow::new_index)
-  std::vector<int> cell_part;   ///< part of each cell of `whole`
   std::vector<int> node_owner;  ///< owner rank of each node of `whole`
   mesh::LocalPart local;        ///< this rank's: local node i is whole node local.nodes[i]
   int ranks = 1;

@@ -1,0 +1,166 @@
+#!/usr/bin/env python3
+"""`mpirun -np N shellflow run` (docs/parallel.md): flow runs distributed over MPI ranks.
+
+The executable comes from $SHELLFLOW_EXE, the launcher from $MPIEXEC. Every case runs in one
+process and on 2 and 3 ranks (3 oversubscribe a 2-core machine); probes.csv and the fields of
+the frames must be the same bits, and a checkpoint must restart on another rank count.
+"""
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+import unittest
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from test_cli import EXE, ROOT, read_vtu_point_arrays  # noqa: E402
+
+MPIEXEC = os.environ.get("MPIEXEC", "mpiexec")
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_btl_vader_single_copy_mechanism="none", OMP_NUM_THREADS="1")
+SOD_MOVING = os.path.join(ROOT, "cases", "fluid", "sod_moving_mesh.yaml")
+RAMP = os.path.join(ROOT, "cases", "fluid", "ramp_15deg.yaml")
+PANEL_PISTON = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml")
+
+
+def run(ranks, *args):
+    """`shellflow ARGS` in one process (ranks = 1) or under mpiexec with `ranks` ranks."""
+    launcher = [] if ranks == 1 else [MPIEXEC, "-n", str(ranks), "--oversubscribe"]
+    return subprocess.run([*launcher, EXE, *args], capture_output=True, text=True, timeout=600, env=ENV)
+
+
+def read_frame(path):
+    """Point arrays of a .vtu, or of every piece of a .pvtu joined: {name: list of tuples},
+    "Points" among them; and the number of cells."""
+    if not path.endswith(".pvtu"):
+        with open(path, "rb") as f:
+            head = f.read(4096).decode(errors="replace")
+        return read_vtu_point_arrays(path), int(re.search(r'NumberOfCells="(\d+)"', head).group(1))
+    with open(path) as f:
+        text = f.read()
+    names = re.findall(r'<PDataArray type="Float64" Name="(\w+)"', text.split("<PCellData>")[0])
+    arrays, cells = {}, 0
+    for source in re.findall(r'<Piece Source="([^"]+)"', text):
+        piece, n = read_frame(os.path.join(os.path.dirname(path), source))
+        cells += n
+        for name in ["Points", *names]:
+            arrays.setdefault(name, []).extend(piece[name])
+    return arrays, cells
+
+
+def pvd_files(outdir, mesh="fluid"):
+    with open(os.path.join(outdir, f"{mesh}.pvd")) as f:
+        return re.findall(r'file="([^"]+)"', f.read())
+
+
+class DistributedFlowRuns(unittest.TestCase):
+    """The same bits on 1, 2 and 3 ranks; .pvtu frames; restarts across rank counts."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def outdir(self, name):
+        return os.path.join(self.tmp.name, name)
+
+    def run_ok(self, ranks, *args, code=0):
+        r = run(ranks, *args)
+        self.assertEqual(r.returncode, code, r.stderr[-3000:])
+        return r
+
+    def assert_same_frames(self, serial, distributed, ranks):
+        """The last frame of each run: every piece node holds the one-process values bit for bit."""
+        last_serial, last_pieces = pvd_files(serial)[-1], pvd_files(distributed)[-1]
+        self.assertTrue(last_pieces.endswith(".pvtu"), last_pieces)
+        with open(os.path.join(distributed, last_pieces)) as f:
+            self.assertEqual(len(re.findall(r"<Piece Source=", f.read())), ranks)
+        a, cells_a = read_frame(os.path.join(serial, last_serial))
+        b, cells_b = read_frame(os.path.join(distributed, last_pieces))
+        self.assertEqual(cells_a, cells_b)  # every cell in exactly one piece
+        at = {p: i for i, p in enumerate(a["Points"])}
+        self.assertEqual(set(at), set(b["Points"]))
+        names = [n for n in b if n != "Points"]  # the point arrays the .pvtu lists
+        self.assertIn("pressure", names)
+        for j, p in enumerate(b["Points"]):
+            i = at[p]
+            for name in names:
+                self.assertEqual(a[name][i], b[name][j], f"{name} at {p}")
+
+    def test_moving_mesh_flow_gives_the_same_bits_on_1_2_and_3_ranks(self):
+        self.run_ok(1, "run", SOD_MOVING, "-o", self.outdir("1"), "--no-plot")
+        with open(os.path.join(self.outdir("1"), "probes.csv")) as f:
+            serial = f.read()
+        for ranks in (2, 3):
+            out = self.outdir(str(ranks))
+            r = self.run_ok(ranks, "run", SOD_MOVING, "-o", out, "--no-plot")
+            self.assertIn(f"({ranks} MPI ranks)", r.stderr)
+            self.assertEqual(r.stderr.count("flow: 111 steps"), 1, r.stderr)  # rank 0 logs alone
+            with open(os.path.join(out, "probes.csv")) as f:
+                self.assertEqual(f.read(), serial)
+            self.assert_same_frames(self.outdir("1"), out, ranks)
+
+    def test_steady_flow_gives_the_same_bits_on_3_ranks(self):
+        args = ["--no-plot", "--set", "fluid.analysis.steps=60", "--set", "output.every=30"]
+        self.run_ok(1, "run", RAMP, "-o", self.outdir("1"), *args)
+        self.run_ok(3, "run", RAMP, "-o", self.outdir("3"), *args)
+        for name in ("probes.csv",):
+            with open(os.path.join(self.outdir("1"), name)) as f, open(os.path.join(self.outdir("3"), name)) as g:
+                self.assertEqual(f.read(), g.read())
+        self.assert_same_frames(self.outdir("1"), self.outdir("3"), 3)
+
+    def test_a_checkpoint_restarts_on_another_rank_count(self):
+        self.run_ok(1, "run", SOD_MOVING, "-o", self.outdir("straight"), "--no-plot")
+        with open(os.path.join(self.outdir("straight"), "probes.csv")) as f:
+            straight = f.read()
+        # 2 ranks -> 3 ranks, and 1 process -> 2 ranks.
+        for first, then, name in ((2, 3, "a"), (1, 2, "b")):
+            out = self.outdir(name)
+            self.run_ok(first, "run", SOD_MOVING, "-o", out, "--no-plot", "--stop-after", "40", code=75)
+            self.assertTrue(os.path.exists(os.path.join(out, "checkpoint_000040.ckpt")))
+            r = self.run_ok(then, "run", SOD_MOVING, "--restart", out, "--no-plot")
+            self.assertIn("restart from", r.stderr)
+            with open(os.path.join(out, "probes.csv")) as f:
+                self.assertEqual(f.read(), straight, f"{first} -> {then} ranks")
+            self.assert_same_frames(self.outdir("straight"), out, then)
+
+
+class DistributedRefusalsAndErrors(unittest.TestCase):
+    """One line for what does not run on ranks, and for an error found on one rank."""
+
+    def test_a_coupled_case_is_refused_on_ranks_before_anything_is_written(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "out")
+            r = run(2, "run", PANEL_PISTON, "-o", out, "--no-plot")
+            self.assertNotEqual(r.returncode, 0)
+            errors = [line for line in r.stderr.splitlines() if line.startswith("shellflow:")]
+            self.assertEqual(len(errors), 1, r.stderr)
+            self.assertIn("a coupled run does not run on 2 MPI ranks yet", errors[0])
+            self.assertIn(PANEL_PISTON, errors[0])
+            self.assertFalse(os.path.exists(out))
+
+    def test_an_inverted_element_on_one_rank_ends_every_rank_with_one_line(self):
+        # A bump of the mesh motion near x = 0.8 inverts elements of one rank's part only.
+        bump = 'fluid.mesh_motion.displacement=["0.05*exp(-((x-0.8)/0.01)^2)*sin(2*pi*t/0.01)", 0, 0]'
+        with tempfile.TemporaryDirectory() as tmp:
+            serial = run(1, "run", SOD_MOVING, "-o", os.path.join(tmp, "1"), "--no-plot", "--set", bump)
+            self.assertEqual(serial.returncode, 1, serial.stderr)
+            self.assertIn("(step 73)", serial.stderr)
+            for ranks in (2, 3):
+                out = os.path.join(tmp, str(ranks))
+                r = run(ranks, "run", SOD_MOVING, "-o", out, "--no-plot", "--set", bump)
+                self.assertNotEqual(r.returncode, 0)
+                errors = [line for line in r.stderr.splitlines() if line.startswith("shellflow:")]
+                self.assertEqual(len(errors), 1, r.stderr)
+                self.assertIn("the mesh update inverted it", errors[0])
+                self.assertIn("(step 73)", errors[0])
+                # The last valid state was written and its probes are those of one process.
+                with open(os.path.join(out, "probes.csv")) as f, open(os.path.join(tmp, "1", "probes.csv")) as g:
+                    self.assertEqual(f.read(), g.read())
+                self.assertIn("fluid_000072.pvtu", pvd_files(out))
+
+
+if __name__ == "__main__":
+    unittest.main()
