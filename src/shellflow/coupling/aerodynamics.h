@@ -51,16 +51,21 @@ class AerodynamicModel {
   virtual void restore(ArchiveReader&) {}
 
   /// An in-memory mark of the state (the coupling iterations' start of the step), and the
-  /// way back to it, exact: the checkpoint's save/restore into memory.
+  /// way back to it, exact: the checkpoint's save/restore into memory (save_mark /
+  /// restore_mark; a distributed flow keeps its rank's part there, not the whole state).
   void mark() {
     ArchiveWriter out;
-    save(out);
+    save_mark(out);
     mark_ = out.bytes();
   }
   void rewind() {
     ArchiveReader in(mark_, "the coupling iterations' mark of the flow");
-    restore(in);
+    restore_mark(in);
   }
+
+ protected:
+  virtual void save_mark(ArchiveWriter& out) const { save(out); }
+  virtual void restore_mark(ArchiveReader& in) { restore(in); }
 
  private:
   std::string mark_;

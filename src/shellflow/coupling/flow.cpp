@@ -43,6 +43,40 @@ FlowModel::FlowModel(const mesh::Mesh& fluid_mesh, std::unique_ptr<fluid::FluidM
   }
 }
 
+void FlowModel::set_distribution(Distribution distribution) {
+  if (!flow_) throw InputError("coupling: a run without a flow has nothing to distribute");
+  if (has_shear_)
+    throw InputError(
+        fmt::format("coupling: the no-slip wet wall '{}' passes viscous shear, which does not run on "
+                    "several MPI ranks yet (docs/parallel.md); run it without mpirun",
+                    wall_.group));
+  dist_ = std::move(distribution);
+  local_of_whole_.assign(x_.size(), -1);
+  for (std::size_t i = 0; i < dist_->whole_of_local.size(); ++i)
+    local_of_whole_[std::size_t(dist_->whole_of_local[i])] = Index(i);
+  local_wall_slot_.clear();
+  for (const Index l : flow_->mesh().group(wall_.group).nodes) {
+    const Index whole = dist_->whole_of_local[std::size_t(l)];
+    const auto it = std::lower_bound(wall_.nodes.begin(), wall_.nodes.end(), whole);
+    if (it == wall_.nodes.end() || *it != whole)
+      throw Error(fmt::format("coupling: node {} of this rank's wet group '{}' is not a wet node of the whole mesh", l,
+                              wall_.group));
+    local_wall_slot_.push_back(std::size_t(it - wall_.nodes.begin()));
+  }
+  local_x_.resize(dist_->whole_of_local.size());
+  local_w_.resize(dist_->whole_of_local.size());
+  local_wall_velocity_.resize(local_wall_slot_.size());
+}
+
+void FlowModel::gather_pressures(std::span<const Index> nodes, std::span<double> out) const {
+  std::vector<int> owners(nodes.size());
+  for (std::size_t k = 0; k < nodes.size(); ++k) {
+    owners[k] = dist_->owner[std::size_t(nodes[k])];
+    out[k] = owners[k] == dist_->rank ? flow_->pressure(local_of_whole_[std::size_t(nodes[k])]) : 0.0;
+  }
+  dist_->gather(owners, out);
+}
+
 FlowStepReport FlowModel::substeps_for(double dt) {
   FlowStepReport r;
   if (!flow_) {
@@ -86,14 +120,34 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
   // field of the last valid state is of the same time.
   std::optional<fluid::FluidSnapshot> start;
   if (flow_) start = flow_->snapshot();
+  std::vector<Vec3> x_before;  // distributed: the positions before the sub-step (its w = Δx/Δt)
   try {
     for (int m = 1; m <= n; ++m) {
       const double t = m == n ? t_end : t0 + dt * (static_cast<double>(m) / n);
       const auto c1 = Clock::now();
       // With w = Δx/Δt the mover's velocities are not needed: positions only.
       const bool positions_only = flow_ && !options_.interpolated_mesh_velocity;
+      if (dist_ && positions_only) x_before.assign(x_.begin(), x_.end());
       mover_->update(t, x_, positions_only ? std::span<Vec3>{} : std::span<Vec3>(w_));
-      if (flow_) {
+      if (flow_ && dist_) {
+        // The rank's nodes of the whole motion; w = Δx/Δt as the flow forms it.
+        motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
+        for (std::size_t j = 0; j < local_wall_slot_.size(); ++j)
+          local_wall_velocity_[j] = wall_velocity_[local_wall_slot_[j]];
+        flow_->set_wall_velocity(wall_.group, local_wall_velocity_);
+        for (std::size_t i = 0; i < local_x_.size(); ++i) {
+          local_x_[i] = x_[std::size_t(dist_->whole_of_local[i])];
+          if (options_.interpolated_mesh_velocity) local_w_[i] = w_[std::size_t(dist_->whole_of_local[i])];
+        }
+        const auto c2 = Clock::now();
+        report.mesh_seconds += seconds(c1, c2);
+        const double step = t - flow_->time();
+        flow_->step(step, local_x_,
+                    options_.interpolated_mesh_velocity ? std::span<const Vec3>(local_w_) : std::span<const Vec3>{});
+        if (!options_.interpolated_mesh_velocity)
+          for (std::size_t a = 0; a < x_.size(); ++a) w_[a] = Vec3((x_[a] - x_before[a]) / step);
+        report.flow_seconds += seconds(c2, Clock::now());
+      } else if (flow_) {
         motion.evaluate(wall_handle_, t, wall_displacement_, wall_velocity_);
         flow_->set_wall_velocity(wall_.group, wall_velocity_);
         const auto c2 = Clock::now();
@@ -115,8 +169,8 @@ FlowStepReport FlowModel::advance(const ShellStepMotion& motion, double t_end) {
       }
       time_ = t;
     }
-    // The mesh velocity of the run is the one the flow took.
-    if (flow_ && !options_.interpolated_mesh_velocity && n > 0) {
+    // The mesh velocity of the run is the one the flow took (on ranks: formed above, whole).
+    if (flow_ && !dist_ && !options_.interpolated_mesh_velocity && n > 0) {
       const auto w = flow_->mesh_velocity();
       w_.assign(w.begin(), w.end());
     }
@@ -134,7 +188,10 @@ void FlowModel::pressure_rise(const Eigen::VectorXd&, const Eigen::VectorXd&, st
     std::fill(dp.begin(), dp.end(), 0.0);
     return;
   }
-  flow_->pressures(loads_.fluid_nodes, node_pressure_);
+  if (dist_)
+    gather_pressures(loads_.fluid_nodes, node_pressure_);
+  else
+    flow_->pressures(loads_.fluid_nodes, node_pressure_);
   for (double& p : node_pressure_) p -= options_.reference_pressure;
   transfer_to_load_points(loads_, node_pressure_, dp);
 }
@@ -153,16 +210,19 @@ void FlowModel::shear(std::span<Vec3> out) {
   }
 }
 
-void FlowModel::save(ArchiveWriter& out) const {
+void FlowModel::save_state(ArchiveWriter& out, bool whole) const {
   out.put(time_);
   out.put(x_);
   out.put(w_);
   mover_->save(out);
   out.put(flow_ != nullptr);
-  if (flow_) flow_->save(out);
+  if (flow_ && dist_ && whole)
+    dist_->save_flow(out);
+  else if (flow_)
+    flow_->save(out);
 }
 
-void FlowModel::restore(ArchiveReader& in) {
+void FlowModel::restore_state(ArchiveReader& in, bool whole) {
   const double time = in.get<double>();
   std::vector<Vec3> x = in.get_vec3s(), w = in.get_vec3s();
   in.expect_size("the fluid mesh's positions", x.size(), x_.size());
@@ -170,7 +230,10 @@ void FlowModel::restore(ArchiveReader& in) {
   mover_->restore(in);
   if (in.get<bool>() != (flow_ != nullptr))
     throw Error(in.what() + ": the checkpoint is of a run " + (flow_ ? "without" : "with") + " a flow");
-  if (flow_) flow_->restore(in);
+  if (flow_ && dist_ && whole)
+    dist_->restore_flow(in);
+  else if (flow_)
+    flow_->restore(in);
   time_ = time;
   x_ = std::move(x);
   w_ = std::move(w);
@@ -178,11 +241,17 @@ void FlowModel::restore(ArchiveReader& in) {
 
 std::optional<Vec3> FlowModel::fluid_side_force() const {
   if (!flow_) return std::nullopt;
-  const auto x = flow_->positions();
+  const std::span<const Vec3> x = dist_ ? std::span<const Vec3>(x_) : flow_->positions();  // the same positions
   const std::vector<Vec3>& shear = wall_shear_;  // of the last exchange (shear())
   const auto slot = [&](Index node) {
     return std::size_t(std::lower_bound(wall_.nodes.begin(), wall_.nodes.end(), node) - wall_.nodes.begin());
   };
+  std::vector<double> wall_pressure;  // distributed: at wall_.nodes, from their owners
+  if (dist_) {
+    wall_pressure.resize(wall_.nodes.size());
+    gather_pressures(wall_.nodes, wall_pressure);
+  }
+  const auto pressure = [&](Index node) { return dist_ ? wall_pressure[slot(node)] : flow_->pressure(node); };
   Vec3 force = Vec3::Zero();
   for (const WetFace& f : faces_) {
     const Vec3& a = x[std::size_t(f.nodes[0])];
@@ -190,7 +259,7 @@ std::optional<Vec3> FlowModel::fluid_side_force() const {
     double p = 0.0;
     Vec3 t = Vec3::Zero();
     for (const Index i : f.nodes) {
-      p += flow_->pressure(i) - options_.reference_pressure;
+      p += pressure(i) - options_.reference_pressure;
       if (has_shear_) t += shear[slot(i)];
     }
     force += (p / 3.0) * area + (area.norm() / 3.0) * t;

@@ -8,7 +8,9 @@
 // Without a fluid model (a case with mesh motion but no flow: the paper's mesh-motion
 // tests) only the fluid mesh is moved, with the same sub-steps, and an inverted element
 // stops the run.
+#include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -54,8 +56,26 @@ class FlowModel final : public AerodynamicModel {
   /// shear is that of the last exchange (shear()).
   std::optional<Vec3> fluid_side_force() const override;
   /// Time, fluid node positions and mesh velocities, the mover's and the flow's states.
-  void save(ArchiveWriter& out) const override;
-  void restore(ArchiveReader& in) override;
+  void save(ArchiveWriter& out) const override { save_state(out, true); }
+  void restore(ArchiveReader& in) override { restore_state(in, true); }
+
+  /// The flow distributed over ranks (docs/parallel.md): the model's flow runs on this rank's
+  /// part of the fluid mesh (its node i is node whole_of_local[i] of the mesh this FlowModel
+  /// was built on), while the mesh motion, the wall map and the load map stay whole on every
+  /// rank (replicated: the same bits everywhere). `gather(nodes, values)`: values[k] of whole
+  /// node nodes[k] from the rank owning it (each rank fills those it owns), on every rank.
+  /// `save_flow` / `restore_flow`: the flow's state in the whole mesh's form
+  /// (dist/flow_distribution.h). Throws InputError for a wall with shear (viscous coupling is
+  /// not distributed yet).
+  struct Distribution {
+    std::vector<Index> whole_of_local;
+    std::vector<int> owner;  ///< owner rank of every whole node
+    int rank = 0;
+    std::function<void(std::span<const int> owners, std::span<double> values)> gather;
+    std::function<void(ArchiveWriter&)> save_flow;
+    std::function<void(ArchiveReader&)> restore_flow;
+  };
+  void set_distribution(Distribution distribution);
 
   /// Sub-steps the next shell step of length dt needs (auto) or gets (fixed); throws
   /// SolverError naming the time and the n_sub needed when a fixed count is too small.
@@ -89,6 +109,18 @@ class FlowModel final : public AerodynamicModel {
   bool has_shear_ = false;
   std::vector<Vec3> wall_shear_;         ///< at wall_.nodes, of the last shear()
   std::vector<std::size_t> shear_slot_;  ///< per loads_.fluid_nodes entry: its place in wall_.nodes
+  void save_mark(ArchiveWriter& out) const override { save_state(out, false); }
+  void restore_mark(ArchiveReader& in) override { restore_state(in, false); }
+  /// `whole`: on ranks, the flow's state in the whole mesh's form (a checkpoint); else (a mark)
+  /// the rank's own part.
+  void save_state(ArchiveWriter& out, bool whole) const;
+  void restore_state(ArchiveReader& in, bool whole);
+  /// Distributed: the pressures of whole nodes from their owners (every rank the same).
+  void gather_pressures(std::span<const Index> nodes, std::span<double> out) const;
+  std::optional<Distribution> dist_;
+  std::vector<Index> local_of_whole_;         ///< -1: not on this rank
+  std::vector<std::size_t> local_wall_slot_;  ///< per node of the local wall group: its place in wall_.nodes
+  std::vector<Vec3> local_x_, local_w_, local_wall_velocity_;
 };
 
 }  // namespace shellflow::coupling

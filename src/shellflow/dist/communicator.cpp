@@ -1,6 +1,9 @@
 #include "shellflow/dist/communicator.h"
 
+#include <fmt/format.h>
 #include <mpi.h>
+
+#include <algorithm>
 
 #include "shellflow/core/error.h"
 
@@ -110,6 +113,30 @@ std::string Communicator::first_error(const std::string& mine) const {
   std::string message = rank_ == first ? mine : std::string();
   broadcast(message, first);
   return message;
+}
+
+void gather_from_owners(const Communicator& comm, std::span<const int> owner, std::span<double> values,
+                        int components) {
+  const auto nc = std::size_t(components);
+  if (values.size() != owner.size() * nc)
+    throw Error(fmt::format("gather_from_owners: {} values for {} entries of {} components", values.size(),
+                            owner.size(), components));
+  std::vector<double> mine;
+  for (std::size_t k = 0; k < owner.size(); ++k)
+    if (owner[k] == comm.rank())
+      mine.insert(mine.end(), values.begin() + std::ptrdiff_t(k * nc), values.begin() + std::ptrdiff_t((k + 1) * nc));
+  const std::vector<double> all = comm.all_gather(mine);
+  // Rank r's entries follow those of the ranks before it, each rank's in entry order.
+  std::vector<std::size_t> next(std::size_t(comm.size()) + 1, 0);
+  for (const int r : owner) next[std::size_t(r) + 1] += nc;
+  for (std::size_t r = 1; r < next.size(); ++r) next[r] += next[r - 1];
+  if (next.back() != all.size())
+    throw Error(fmt::format("gather_from_owners: {} values gathered, {} expected", all.size(), next.back()));
+  for (std::size_t k = 0; k < owner.size(); ++k) {
+    std::size_t& from = next[std::size_t(owner[k])];
+    std::copy_n(all.begin() + std::ptrdiff_t(from), nc, values.begin() + std::ptrdiff_t(k * nc));
+    from += nc;
+  }
 }
 
 }  // namespace shellflow::dist

@@ -8,6 +8,7 @@
 // inside a rank) and finalised when the process exits normally. Without mpirun it is one rank
 // (OpenMPI's singleton start).
 #include <exception>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,14 @@ class Communicator {
   int rank_ = 0;
   int size_ = 1;
 };
+
+/// Entries owned by one rank each, made known to every rank: entry k (`components` values
+/// from values[k * components]) belongs to rank owner[k]; on entry each rank holds its own
+/// entries (the others any value), on return every rank holds every entry as its owner had it
+/// (copied, not summed: the same bits on any rank count). Every rank calls it with the same
+/// owners.
+void gather_from_owners(const Communicator& comm, std::span<const int> owner, std::span<double> values,
+                        int components = 1);
 
 /// Runs `f` on every rank of `comm` (or just runs it when `comm` is null) and agrees on its
 /// failure: when f throws on some rank, every rank throws after it, the rank's own exception

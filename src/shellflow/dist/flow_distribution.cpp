@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <type_traits>
 
 #include "shellflow/core/error.h"
@@ -46,9 +47,6 @@ std::vector<double> gather_whole(const Communicator& comm, const mesh::LocalPart
 void save_whole(const fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part,
                 Index whole_nodes, ArchiveWriter& out) {
   const fluid::FluidSnapshot s = model.snapshot();
-  for (const auto& w : s.wall_velocity)
-    if (!w.empty())
-      throw Error("a distributed flow with wall velocities set per node (a coupled run) has no checkpoint yet");
   for (const auto& v : s.U.var) out.put(gather_whole(comm, part, whole_nodes, 1, v.data()));
   for (const auto* field : {&s.x, &s.w}) {
     const std::vector<double> whole = gather_whole(comm, part, whole_nodes, 3, (*field)[0].data());
@@ -60,11 +58,30 @@ void save_whole(const fluid::FluidModel& model, const Communicator& comm, const 
   out.put(s.time);
   out.put(s.steps);
   out.put(static_cast<std::uint64_t>(s.wall_velocity.size()));
-  for (const auto& w : s.wall_velocity) out.put(w);
+  const auto& conditions = model.boundaries().conditions();
+  for (std::size_t c = 0; c < s.wall_velocity.size(); ++c) {
+    // Set per node of the condition's group (sorted whole nodes in the whole mesh): the owned
+    // ones gathered with their whole node, put in whole node order.
+    const auto& local = s.wall_velocity[c];
+    const std::vector<Index>& group = model.mesh().group(conditions[c].group).nodes;
+    const bool set = comm.any(!local.empty());
+    std::vector<double> mine;
+    for (std::size_t j = 0; set && j < local.size(); ++j)
+      if (group[j] < part.num_owned)
+        mine.insert(mine.end(), {double(part.nodes[std::size_t(group[j])]), local[j].x(), local[j].y(), local[j].z()});
+    std::vector<double> all = set ? comm.gather(mine) : std::vector<double>{};
+    std::vector<std::array<double, 4>> rows(all.size() / 4);
+    for (std::size_t k = 0; k < rows.size(); ++k) std::copy_n(all.begin() + std::ptrdiff_t(4 * k), 4, rows[k].begin());
+    std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
+    std::vector<Vec3> whole(rows.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) whole[k] = Vec3(rows[k][1], rows[k][2], rows[k][3]);
+    out.put(whole);
+  }
   out.put(s.density_rate);
 }
 
-void restore_whole(fluid::FluidModel& model, const mesh::LocalPart& part, Index whole_nodes, ArchiveReader& in) {
+void restore_whole(fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes,
+                   ArchiveReader& in) {
   fluid::FluidSnapshot s;
   const auto nn = std::size_t(whole_nodes);
   const auto local = [&](const auto& whole) {
@@ -85,11 +102,24 @@ void restore_whole(fluid::FluidModel& model, const mesh::LocalPart& part, Index 
   s.time = in.get<double>();
   s.steps = in.get<long>();
   const auto walls = in.get<std::uint64_t>();
-  in.expect_size("the flow's wall conditions", walls, model.snapshot().wall_velocity.size());
-  for (std::uint64_t k = 0; k < walls; ++k) {
-    s.wall_velocity.push_back(in.get_vec3s());
-    if (!s.wall_velocity.back().empty())
-      throw Error(in.what() + ": wall velocities set per node (a coupled run's) do not restart on ranks yet");
+  const auto& conditions = model.boundaries().conditions();
+  in.expect_size("the flow's wall conditions", walls, conditions.size());
+  for (std::uint64_t c = 0; c < walls; ++c) {
+    const std::vector<Vec3> whole = in.get_vec3s();
+    s.wall_velocity.emplace_back();
+    if (whole.empty()) continue;
+    // The whole group's nodes: every rank's owned nodes of it, sorted (whole node order).
+    const std::vector<Index>& group = model.mesh().group(conditions[c].group).nodes;
+    std::vector<double> mine;
+    for (const Index l : group)
+      if (l < part.num_owned) mine.push_back(double(part.nodes[std::size_t(l)]));
+    std::vector<double> ids = comm.all_gather(mine);
+    std::sort(ids.begin(), ids.end());
+    in.expect_size("the wall velocities of '" + conditions[c].group + "'", whole.size(), ids.size());
+    for (const Index l : group) {
+      const double id = double(part.nodes[std::size_t(l)]);
+      s.wall_velocity.back().push_back(whole[std::size_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin())]);
+    }
   }
   s.density_rate = in.get<double>();
   model.restore(s);

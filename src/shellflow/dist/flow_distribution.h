@@ -18,11 +18,12 @@ fluid::FluidModel::Distribution flow_distribution(const Communicator& comm, Halo
 /// nodes in the order of the mesh `part` was cut from, `whole_nodes` of them): gathered from
 /// the owners, complete on rank 0 (the others put the same layout with their part only, for
 /// the writes they skip: core/output_file.h). A checkpoint of it restarts on any number of
-/// ranks, or in one process. Throws Error when wall velocities were set per node (the coupled
-/// run's; not distributed).
+/// ranks, or in one process. Wall velocities set per node (a coupled run's) go in the whole
+/// group's node order. Every rank calls it.
 void save_whole(const fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part,
                 Index whole_nodes, ArchiveWriter& out);
 /// The inverse on every rank: the whole state read, this rank's nodes taken.
-void restore_whole(fluid::FluidModel& model, const mesh::LocalPart& part, Index whole_nodes, ArchiveReader& in);
+void restore_whole(fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes,
+                   ArchiveReader& in);
 
 }  // namespace shellflow::dist

@@ -4,9 +4,12 @@
 
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "shellflow/core/error.h"
+#include "shellflow/dist/flow_distribution.h"
 #include "shellflow/run/coupling_log.h"
+#include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/quality_history.h"
 #include "shellflow/run/response_output.h"
 #include "shellflow/run/run_kinds.h"
@@ -50,7 +53,7 @@ const motion::SpaceMesh& space_mesh_of(const coupling::FlowModel& flow) {
 /// The outputs of the meshes a coupled run moves: the shell; with a fluid mesh, the flow (or
 /// the fluid mesh alone), the space mesh and the quality history.
 struct CoupledOutputs {
-  CoupledOutputs(const RunContext& run, const setup::CoupledSystem& s) {
+  CoupledOutputs(const RunContext& run, const setup::CoupledSystem& s, const FluidPieces* pieces) {
     const io::OutputMode mode = run.control.output_mode();
     const shell::NewmarkSolver& solver = *s.solver;
     shell.emplace(
@@ -60,7 +63,9 @@ struct CoupledOutputs {
     run.recorder.add(*shell);
     if (!s.flow) return;
     coupling::FlowModel& flow = *s.flow;
-    if (flow.flow())
+    if (flow.flow() && pieces)
+      run.recorder.add(fluid.emplace<FluidOutput>(*run.meshes.fluid, *pieces, *flow.flow(), run.outdir, mode));
+    else if (flow.flow())
       run.recorder.add(fluid.emplace<FluidOutput>(*run.meshes.fluid, s.new_index, *flow.flow(), run.outdir, mode));
     else
       run.recorder.add(fluid.emplace<FluidMeshOutput>(
@@ -106,10 +111,37 @@ void run_coupled(const RunContext& run) {
   const auto t_setup = std::chrono::steady_clock::now();
   // 1. The response probe (an unknown one fails the run at once), the coupled system.
   ResponseOutput response(run.c, run.outdir);
-  setup::CoupledSystem s = setup::build_coupled_system(run.c, run.meshes);
+  // On ranks the flow runs on the rank's part; the shell, the space mesh and the maps are
+  // whole on every rank (docs/parallel.md).
+  const dist::Communicator* ranks = run.ranks;
+  std::optional<dist::HaloExchange> halo;
+  setup::CoupledRanks on_ranks;
+  if (ranks) {
+    on_ranks = {ranks->rank(), ranks->size(),
+                [&](const setup::FlowPart& part, fluid::FluidModel& flow, coupling::FlowModel& model) {
+                  halo.emplace(*ranks, part.local);
+                  flow.set_distribution(dist::flow_distribution(*ranks, *halo, part.local));
+                  model.set_distribution({part.local.nodes, part.node_owner, ranks->rank(),
+                                          [ranks](std::span<const int> owners, std::span<double> values) {
+                                            dist::gather_from_owners(*ranks, owners, values);
+                                          },
+                                          [&flow, &part, ranks](ArchiveWriter& out) {
+                                            dist::save_whole(flow, *ranks, part.local, part.whole_nodes, out);
+                                          },
+                                          [&flow, &part, ranks](ArchiveReader& in) {
+                                            dist::restore_whole(flow, *ranks, part.local, part.whole_nodes, in);
+                                          }});
+                }};
+  }
+  setup::CoupledSystem s;
+  std::optional<FluidPieces> pieces;
+  dist::on_every_rank(ranks, [&] {
+    s = setup::build_coupled_system(run.c, run.meshes, ranks ? &on_ranks : nullptr);
+    if (s.part) pieces.emplace(make_fluid_pieces(*s.flow->flow(), *s.part, s.new_index, *ranks, run.recorder.probes()));
+  });
   log_system(run.c, s);
   // 2. The outputs: the moving meshes, the quality and response histories, coupling.csv.
-  CoupledOutputs outputs(run, s);
+  CoupledOutputs outputs(run, s, pieces ? &*pieces : nullptr);
   CouplingLog log(run.outdir / "coupling.csv", run.control.output_mode());
   run.recorder.add(log.csv());
   run.recorder.on_sample([&](double t, std::span<const double> probes) {

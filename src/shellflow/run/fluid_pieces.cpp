@@ -8,20 +8,21 @@
 
 namespace shellflow::run {
 
-FluidPieces make_fluid_pieces(const setup::Flow& flow, const dist::Communicator& ranks, const io::ProbeSet& probes) {
-  const setup::FlowPart& part = *flow.part;
+FluidPieces make_fluid_pieces(const fluid::FluidModel& model, const setup::FlowPart& part,
+                              std::span<const Index> new_index, const dist::Communicator& ranks,
+                              const io::ProbeSet& probes) {
   const mesh::LocalPart& local = part.local;
-  const mesh::Mesh& model_mesh = flow.model->mesh();
+  const mesh::Mesh& model_mesh = model.mesh();
   FluidPieces p;
   p.ranks = &ranks;
   // Whole node -> model node.
-  std::vector<Index> model_of(part.whole.nodes.size(), -1);
+  std::vector<Index> model_of(std::size_t(part.whole_nodes), -1);
   for (std::size_t i = 0; i < local.nodes.size(); ++i) model_of[std::size_t(local.nodes[i])] = Index(i);
-  p.case_to_model.resize(flow.new_index.size());
-  p.case_owner.resize(flow.new_index.size());
-  for (std::size_t i = 0; i < flow.new_index.size(); ++i) {
-    p.case_to_model[i] = model_of[std::size_t(flow.new_index[i])];
-    p.case_owner[i] = part.node_owner[std::size_t(flow.new_index[i])];
+  p.case_to_model.resize(new_index.size());
+  p.case_owner.resize(new_index.size());
+  for (std::size_t i = 0; i < new_index.size(); ++i) {
+    p.case_to_model[i] = model_of[std::size_t(new_index[i])];
+    p.case_owner[i] = part.node_owner[std::size_t(new_index[i])];
   }
   // The piece: the model's cells whose first node the rank owns (each cell has one such rank,
   // and holds the cell: it is a cell of an owned node), on the model nodes they use.
@@ -57,27 +58,15 @@ ProbeGather::ProbeGather(const FluidPieces& pieces, std::vector<Quantity> quanti
 
 void ProbeGather::refresh() {
   const dist::Communicator& ranks = *pieces_.ranks;
-  std::vector<double> mine;
-  for (const Index i : pieces_.probed) {
-    if (pieces_.case_owner[std::size_t(i)] != ranks.rank()) continue;
-    const std::size_t at = mine.size();
-    mine.resize(at + per_node_);
-    for (std::size_t q = 0; q < quantities_.size(); ++q)
-      value_(q, pieces_.case_to_model[std::size_t(i)], mine.data() + at + offset_[q]);
-  }
-  const std::vector<double> all = ranks.all_gather(mine);
-  // Rank r's values start after those of the ranks before it; each rank's come in probed order.
-  std::vector<std::size_t> next(std::size_t(ranks.size()) + 1, 0);
-  for (const Index i : pieces_.probed) next[std::size_t(pieces_.case_owner[std::size_t(i)]) + 1] += per_node_;
-  for (std::size_t r = 1; r < next.size(); ++r) next[r] += next[r - 1];
-  if (next.back() != all.size())
-    throw Error(
-        fmt::format("probe values of the fluid: {} gathered from the ranks, {} expected", all.size(), next.back()));
+  owners_.resize(pieces_.probed.size());
   for (std::size_t s = 0; s < pieces_.probed.size(); ++s) {
-    std::size_t& from = next[std::size_t(pieces_.case_owner[std::size_t(pieces_.probed[s])])];
-    std::copy_n(all.begin() + std::ptrdiff_t(from), per_node_, values_.begin() + std::ptrdiff_t(s * per_node_));
-    from += per_node_;
+    const auto i = std::size_t(pieces_.probed[s]);
+    owners_[s] = pieces_.case_owner[i];
+    if (owners_[s] != ranks.rank()) continue;
+    for (std::size_t q = 0; q < quantities_.size(); ++q)
+      value_(q, pieces_.case_to_model[i], values_.data() + s * per_node_ + offset_[q]);
   }
+  dist::gather_from_owners(ranks, owners_, values_, int(per_node_));
 }
 
 const double* ProbeGather::at(Index case_node) const {

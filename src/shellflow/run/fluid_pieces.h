@@ -24,8 +24,11 @@ struct FluidPieces {
   std::vector<Index> probed;          ///< the case nodes the probes read (sorted)
 };
 
-/// The pieces of `flow` (built with ranks > 1: flow.part set) for the probes `probes`.
-FluidPieces make_fluid_pieces(const setup::Flow& flow, const dist::Communicator& ranks, const io::ProbeSet& probes);
+/// The pieces of `model`, rank ranks.rank()'s part `part` of a flow whose case nodes are the
+/// whole mesh's nodes new_index, for the probes `probes`.
+FluidPieces make_fluid_pieces(const fluid::FluidModel& model, const setup::FlowPart& part,
+                              std::span<const Index> new_index, const dist::Communicator& ranks,
+                              const io::ProbeSet& probes);
 
 /// The probed nodes' values of some nodal quantities, gathered from their owners: refresh()
 /// (on every rank at once) collects them, views() gives them to the probes by case node.
@@ -50,6 +53,7 @@ class ProbeGather {
   std::vector<std::size_t> offset_;  ///< of each quantity in a node's values
   std::size_t per_node_ = 0;
   std::vector<double> values_;  ///< per_node_ values per probed node, in pieces_.probed order
+  std::vector<int> owners_;     ///< of the probed nodes
 };
 
 }  // namespace shellflow::run

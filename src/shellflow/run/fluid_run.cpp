@@ -46,7 +46,7 @@ void run_fluid(const RunContext& run) {
     if (!ranks) return;
     halo.emplace(*ranks, flow.part->local);
     flow.model->set_distribution(dist::flow_distribution(*ranks, *halo, flow.part->local));
-    pieces.emplace(make_fluid_pieces(flow, *ranks, run.recorder.probes()));
+    pieces.emplace(make_fluid_pieces(*flow.model, *flow.part, flow.new_index, *ranks, run.recorder.probes()));
   });
   fluid::FluidModel& model = *flow.model;
   std::optional<FluidOutput> output;
@@ -88,7 +88,7 @@ void run_fluid(const RunContext& run) {
   stepping.time = [&] { return model.time(); };
   // On ranks the checkpoint holds the whole mesh's state, as one process writes it: it restarts
   // on any number of ranks.
-  const Index whole_nodes = flow.part ? flow.part->whole.num_nodes() : 0;
+  const Index whole_nodes = flow.part ? flow.part->whole_nodes : 0;
   stepping.save = [&](ArchiveWriter& out) {
     if (ranks)
       dist::save_whole(model, *ranks, flow.part->local, whole_nodes, out);
@@ -99,7 +99,7 @@ void run_fluid(const RunContext& run) {
   };
   stepping.restore = [&](ArchiveReader& in) {
     if (ranks)
-      dist::restore_whole(model, flow.part->local, whole_nodes, in);
+      dist::restore_whole(model, *ranks, flow.part->local, whole_nodes, in);
     else
       model.restore(in);
     first_density_rate = in.get<double>();

@@ -56,15 +56,13 @@ void run_kind(const RunContext& run) {
 /// the same on every rank, before anything is written.
 void check_distributable(const io::Case& c, const RunOptions& options) {
   const int n = options.ranks->size();
-  const char* kind = c.coupling                        ? "a coupled run"
-                     : c.motion                        ? "a mesh-motion run"
-                     : c.shell && c.shell->analysis    ? "a shell run"
-                     : !(c.fluid && c.fluid->analysis) ? "a case without an analysis"
-                                                       : nullptr;
+  const char* kind = c.motion && !c.coupling                          ? "a mesh-motion run"
+                     : c.shell && c.shell->analysis && !c.coupling    ? "a shell run"
+                     : !c.coupling && !(c.fluid && c.fluid->analysis) ? "a case without an analysis"
+                                                                      : nullptr;
   if (kind)
     throw InputError(fmt::format(
-        "{}: {} does not run on {} MPI ranks yet (only flow runs, 'fluid.analysis', do; docs/parallel.md): run it "
-        "without mpirun (its threads use the machine's cores)",
+        "{}: {} does not run on {} MPI ranks (flow runs and coupled runs do; docs/parallel.md): run it without mpirun",
         c.file.string(), kind, n));
 }
 

@@ -46,7 +46,7 @@ double uniform_sign(std::span<const double> sign, const io::CouplingSection& k) 
 
 }  // namespace
 
-CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes) {
+CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes, const CoupledRanks* ranks) {
   const io::CouplingSection& k = *c.coupling;
   const io::ShellAnalysis& analysis = *c.shell->analysis;
   CoupledSystem s;
@@ -101,9 +101,17 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
     options.substeps = k.substeps;
     options.interpolated_mesh_velocity = k.mesh_velocity == io::CouplingSection::MeshVelocity::interpolated;
     options.reference_pressure = s.reference_pressure;
-    if (c.fluid) {
+    const bool distributed = c.fluid && ranks && ranks->ranks > 1;
+    if (distributed) {
+      RankShare share = rank_share(fluid_mesh, ranks->rank, ranks->ranks);
+      s.part = std::move(share.part);
+      flow = std::make_unique<fluid::FluidModel>(std::move(share.mesh), fluid_options(*c.fluid),
+                                                 boundary_conditions(*c.fluid, nullptr), std::move(share.colouring));
+    } else if (c.fluid) {
       flow = std::make_unique<fluid::FluidModel>(fluid_mesh, fluid_options(*c.fluid),
                                                  boundary_conditions(*c.fluid, nullptr));
+    }
+    if (c.fluid) {
       const fluid::Primitive inf = free_stream(*c.fluid);
       flow->set_state([&](const Vec3&) { return inf; });
       options.cfl = c.fluid->analysis->cfl;
@@ -119,6 +127,7 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
     auto flow_model = std::make_unique<coupling::FlowModel>(fluid_mesh, std::move(flow), std::move(mover), *s.motion,
                                                             std::move(wall), std::move(loads), options);
     s.flow = flow_model.get();
+    if (distributed) ranks->distribute(*s.part, *s.flow->flow(), *s.flow);
     s.aerodynamics = std::move(flow_model);
   }
 

@@ -4,6 +4,7 @@
 // mesh, piston theory, or only the fluid mesh for the mesh-motion tests), the interface
 // maps, and the partitioned driver over them. Built in the order the maps need: the fluid
 // wall nodes are snapped onto the shell before the flow and the mover are built.
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "shellflow/coupling/piston_theory.h"
 #include "shellflow/io/case.h"
 #include "shellflow/io/case_meshes.h"
+#include "shellflow/setup/fluid_setup.h"
 #include "shellflow/shell/newmark_solver.h"
 
 namespace shellflow::setup {
@@ -29,11 +31,24 @@ struct CoupledSystem {
   shell::SparseMatrix piston_stiffness, piston_damping;  ///< monolithic scheme
   std::unique_ptr<coupling::PartitionedSolver> driver;
   double reference_pressure = 0.0;  ///< p_ref of the exchanged pressure rise (free stream)
+  std::unique_ptr<FlowPart> part;   ///< the flow's part of the fluid mesh (distributed runs)
+};
+
+/// A coupled run whose flow is distributed over ranks (docs/parallel.md): the flow runs on
+/// rank `rank`'s part of the fluid mesh (rank_share), everything else is whole on every rank.
+/// `distribute` hands the flow and the FlowModel their distributions (dist/; the run layer's),
+/// before the driver first asks for loads.
+struct CoupledRanks {
+  int rank = 0;
+  int ranks = 1;
+  std::function<void(const FlowPart&, fluid::FluidModel&, coupling::FlowModel&)> distribute;
 };
 
 /// Builds everything and sets the initial state (shell at rest, flow at the free stream).
 /// Throws InputError (maps, gaps, orientation, groups) with the case file's context.
-CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes);
+/// `ranks`: the flow on this rank's part (null, or one rank: the whole flow).
+CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& meshes,
+                                   const CoupledRanks* ranks = nullptr);
 
 /// The added-mass ratio of the explicit staggered scheme, rho_inf a_inf dt / (rho_s h)
 /// (docs/coupling.md "Implicit coupling"); 0 without a flow.

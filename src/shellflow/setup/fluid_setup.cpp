@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <optional>
-#include <utility>
 
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/ordering.h"
@@ -102,21 +101,31 @@ std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection
   return conditions;
 }
 
+RankShare rank_share(const mesh::Mesh& whole, int rank, int ranks) {
+  RankShare share;
+  share.part = std::make_unique<FlowPart>();
+  FlowPart& part = *share.part;
+  part.ranks = ranks;
+  part.whole_nodes = whole.num_nodes();
+  part.node_owner = mesh::node_owners(whole, mesh::partition_cells(whole, ranks));
+  part.local = mesh::make_local_part(whole, part.node_owner, rank);
+  share.colouring = fluid::restrict_colouring(
+      fluid::colour_cells(whole.cells.connectivity, 4, whole.num_nodes(), fluid::default_block_size(whole.num_cells())),
+      part.local.cells);
+  share.mesh = mesh::local_mesh(whole, part.local);
+  return share;
+}
+
 Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh, int rank, int ranks) {
   Flow flow;
   mesh::Mesh mesh = case_mesh;
   flow.new_index = fluid::renumber_for_locality(mesh);
   std::optional<fluid::CellColouring> colouring;
   if (ranks > 1) {
-    auto part = std::make_unique<FlowPart>();
-    part->ranks = ranks;
-    part->node_owner = mesh::node_owners(mesh, mesh::partition_cells(mesh, ranks));
-    part->local = mesh::make_local_part(mesh, part->node_owner, rank);
-    colouring = fluid::restrict_colouring(
-        fluid::colour_cells(mesh.cells.connectivity, 4, mesh.num_nodes(), fluid::default_block_size(mesh.num_cells())),
-        part->local.cells);
-    part->whole = std::exchange(mesh, mesh::local_mesh(mesh, part->local));
-    flow.part = std::move(part);
+    RankShare share = rank_share(mesh, rank, ranks);
+    flow.part = std::move(share.part);
+    mesh = std::move(share.mesh);
+    colouring = std::move(share.colouring);
   }
   const io::FluidMeshMotion* motion = section.mesh_motion ? &*section.mesh_motion : nullptr;
   if (motion) flow.mesh_velocity = std::make_unique<std::vector<Vec3>>(mesh.nodes.size(), Vec3::Zero());

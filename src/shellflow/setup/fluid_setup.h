@@ -32,11 +32,20 @@ std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection
 /// cells, mesh::node_owners), and the rank's local part, on whose local mesh the rank's model
 /// runs.
 struct FlowPart {
-  mesh::Mesh whole;             ///< the case mesh renumbered (Flow::new_index)
-  std::vector<int> node_owner;  ///< owner rank of each node of `whole`
+  Index whole_nodes = 0;        ///< nodes of the whole renumbered mesh
+  std::vector<int> node_owner;  ///< owner rank of each node of the whole mesh
   mesh::LocalPart local;        ///< this rank's: local node i is whole node local.nodes[i]
   int ranks = 1;
 };
+
+/// Rank `rank`'s share of the renumbered mesh `whole` on `ranks` ranks: its part, and the
+/// local mesh and colouring its model runs on (the whole mesh's colouring restricted to it).
+struct RankShare {
+  std::unique_ptr<FlowPart> part;
+  mesh::Mesh mesh;
+  fluid::CellColouring colouring;
+};
+RankShare rank_share(const mesh::Mesh& whole, int rank, int ranks);
 
 /// The flow of a flow run: the case's fluid mesh renumbered for memory locality
 /// (new_index[i] is the solver's node of case node i), its boundary conditions and its
@@ -49,7 +58,7 @@ struct FlowPart {
 /// colouring restricted to it (the same bits on any rank count); new_index still maps case
 /// nodes to the whole renumbered mesh, part->local maps those to the model's nodes. The caller
 /// hands the model its distribution (dist/flow_distribution.h). Every rank computes the same
-/// partition (METIS with a fixed seed).
+/// partition (METIS with a fixed seed, rank_share).
 struct Flow {
   std::unique_ptr<fluid::FluidModel> model;
   std::vector<Index> new_index;
