@@ -100,7 +100,9 @@ int main(int argc, char** argv) {
   auto* run = cli.add_subcommand("run",
                                  "Run a case: mesh it, integrate in time (shell, flow, mesh motion, or all coupled "
                                  "with a 'coupling' section: panel flutter), write .vtu/.pvd fields, probes.csv and "
-                                 "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png)");
+                                 "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png). Under "
+                                 "'mpirun -np N' the flow of a flow or coupled run is split over N MPI ranks "
+                                 "(METIS parts; .pvtu frames; the same numbers as one process; docs/parallel.md)");
   add_case(run);
   add_output(run);
   run::StopOptions stop;
@@ -204,8 +206,8 @@ int main(int argc, char** argv) {
     if (!*run) {
       if (launcher_rank() == 0)
         std::fprintf(stderr,
-                     "shellflow: error: started as %d MPI ranks; only 'shellflow run' of a flow case runs on several "
-                     "ranks (docs/parallel.md): run this command without mpirun\n",
+                     "shellflow: error: started as %d MPI ranks; only 'shellflow run' runs on several ranks "
+                     "(docs/parallel.md): run this command without mpirun\n",
                      launched_ranks);
       return 1;
     }

@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Thread-parallel flow on a shared machine (issue 21, deliverable 6; docs/fluid.md "Threads on a
 shared machine"): times the short variant of the default case (clamped-clamped Euler flutter,
-`--set time.end=T`) at one thread, the default thread count and OMP_NUM_THREADS=2, on a quiet
-machine and with one core taken by a busy loop (another program: a bounded Python spin, killed at
+`--set time.end=T`) at one thread, the default thread count, OMP_NUM_THREADS=2 and on 2 MPI ranks of
+one thread each (`mpiexec -n 2 --bind-to none`; docs/parallel.md), on a quiet machine and with one
+core taken by a busy loop (another program: a bounded Python spin, killed at
 the end), and prints the medians and the ratios to the one-thread run of the same load.
 
 usage: /usr/bin/python3 bench/fluid/shared_machine.py [--exe build/release/app/shellflow]
-       [--end 0.005] [--repeat 3] [--env KEY=VALUE ...]
+       [--end 0.005] [--repeat 3] [--env KEY=VALUE ...] [--mpiexec mpiexec | --mpiexec none]
 
 --env adds variables to every timed run (e.g. --env SHELLFLOW_SPIN_US=50 to time another spin
 time of the thread pool, core/parallel.h; default 20 microseconds). Each configuration runs --repeat
@@ -32,10 +33,10 @@ def spin(stop_at):
         x += 1
 
 
-def timed_run(exe, end, env, folder):
+def timed_run(exe, end, env, folder, launcher=()):
     out = os.path.join(folder, "out")
     start = time.perf_counter()
-    r = subprocess.run([exe, "run", CASE, "-o", out, "--no-plot", "-q", "--set", f"time.end={end}"],
+    r = subprocess.run([*launcher, exe, "run", CASE, "-o", out, "--no-plot", "-q", "--set", f"time.end={end}"],
                        capture_output=True, text=True, env=env)
     seconds = time.perf_counter() - start
     if r.returncode != 0:
@@ -49,13 +50,20 @@ def main():
     parser.add_argument("--end", type=float, default=0.005, help="time.end of the runs [s]")
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--env", action="append", default=[], help="KEY=VALUE for every run")
+    parser.add_argument("--mpiexec", default="mpiexec", help="MPI launcher of the 2-rank runs ('none': no such runs)")
     args = parser.parse_args()
     base = {k: v for k, v in os.environ.items()
             if k not in ("OMP_NUM_THREADS", "OMP_WAIT_POLICY", "GOMP_SPINCOUNT", "SHELLFLOW_SPIN_US")}
     for kv in args.env:
         key, _, value = kv.partition("=")
         base[key] = value
-    configs = [("1 thread", {"OMP_NUM_THREADS": "1"}), ("default", {}), ("OMP_NUM_THREADS=2", {"OMP_NUM_THREADS": "2"})]
+    configs = [("1 thread", {"OMP_NUM_THREADS": "1"}, ()), ("default", {}, ()),
+               ("OMP_NUM_THREADS=2", {"OMP_NUM_THREADS": "2"}, ())]
+    if args.mpiexec != "none":
+        # As root (CI, containers) OpenMPI needs these; --bind-to none: the ranks may move between cores.
+        ranks_env = {"OMP_NUM_THREADS": "1", "OMPI_ALLOW_RUN_AS_ROOT": "1", "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+                     "OMPI_MCA_btl_vader_single_copy_mechanism": "none"}
+        configs.append(("2 ranks x 1 thread", ranks_env, (args.mpiexec, "-n", "2", "--bind-to", "none")))
     print(f"{os.cpu_count()} cores; case {os.path.relpath(CASE, ROOT)} with time.end = {args.end} s; "
           f"{args.repeat} runs each (median); extra env: {' '.join(args.env) or 'none'}")
     with tempfile.TemporaryDirectory() as folder:
@@ -66,17 +74,17 @@ def main():
                 busy = multiprocessing.Process(target=spin, args=(time.time() + 3600,), daemon=True)
                 busy.start()
             try:
-                times = {name: [] for name, _ in configs}
+                times = {name: [] for name, _, _ in configs}
                 for _ in range(args.repeat):
-                    for name, extra in configs:
-                        times[name].append(timed_run(args.exe, args.end, {**base, **extra}, folder))
+                    for name, extra, launcher in configs:
+                        times[name].append(timed_run(args.exe, args.end, {**base, **extra}, folder, launcher))
             finally:
                 if busy:
                     busy.terminate()
                     busy.join()
             one = statistics.median(times["1 thread"])
             print(f"\n{load}:")
-            for name, _ in configs:
+            for name, _, _ in configs:
                 m = statistics.median(times[name])
                 print(f"  {name:<20} {m:7.2f} s  ({m / one:5.2f}x the 1-thread run)  runs: "
                       + ", ".join(f"{t:.2f}" for t in times[name]))

@@ -21,13 +21,23 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
            OMPI_MCA_btl_vader_single_copy_mechanism="none", OMP_NUM_THREADS="1")
 SOD_MOVING = os.path.join(ROOT, "cases", "fluid", "sod_moving_mesh.yaml")
 RAMP = os.path.join(ROOT, "cases", "fluid", "ramp_15deg.yaml")
-PANEL_PISTON = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml")
+PANEL_COARSE = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_coarse.yaml")
+STRONG = os.path.join(ROOT, "cases", "strong_coupling", "thin_sheet_dense_gas.yaml")
+MOTION = os.path.join(ROOT, "cases", "motion", "panel_single_mode.yaml")
+COUPLED_FILES = ("probes.csv", "response.json", "coupling.csv", "mesh_quality.csv")
 
 
 def run(ranks, *args):
     """`shellflow ARGS` in one process (ranks = 1) or under mpiexec with `ranks` ranks."""
     launcher = [] if ranks == 1 else [MPIEXEC, "-n", str(ranks), "--oversubscribe"]
     return subprocess.run([*launcher, EXE, *args], capture_output=True, text=True, timeout=600, env=ENV)
+
+
+def run_ok(test, ranks, *args, code=0):
+    """run() that must end with exit code `code`."""
+    r = run(ranks, *args)
+    test.assertEqual(r.returncode, code, r.stderr[-3000:])
+    return r
 
 
 def read_frame(path):
@@ -54,6 +64,25 @@ def pvd_files(outdir, mesh="fluid"):
         return re.findall(r'file="([^"]+)"', f.read())
 
 
+def assert_same_frames(test, serial, distributed, ranks):
+    """The last frame of each run: every piece node holds the one-process values bit for bit."""
+    last_serial, last_pieces = pvd_files(serial)[-1], pvd_files(distributed)[-1]
+    test.assertTrue(last_pieces.endswith(".pvtu"), last_pieces)
+    with open(os.path.join(distributed, last_pieces)) as f:
+        test.assertEqual(len(re.findall(r"<Piece Source=", f.read())), ranks)
+    a, cells_a = read_frame(os.path.join(serial, last_serial))
+    b, cells_b = read_frame(os.path.join(distributed, last_pieces))
+    test.assertEqual(cells_a, cells_b)  # every cell in exactly one piece
+    at = {p: i for i, p in enumerate(a["Points"])}
+    test.assertEqual(set(at), set(b["Points"]))
+    names = [n for n in b if n != "Points"]  # the point arrays the .pvtu lists
+    test.assertIn("pressure", names)
+    for j, p in enumerate(b["Points"]):
+        i = at[p]
+        for name in names:
+            test.assertEqual(a[name][i], b[name][j], f"{name} at {p}")
+
+
 class DistributedFlowRuns(unittest.TestCase):
     """The same bits on 1, 2 and 3 ranks; .pvtu frames; restarts across rank counts."""
 
@@ -66,79 +95,99 @@ class DistributedFlowRuns(unittest.TestCase):
     def outdir(self, name):
         return os.path.join(self.tmp.name, name)
 
-    def run_ok(self, ranks, *args, code=0):
-        r = run(ranks, *args)
-        self.assertEqual(r.returncode, code, r.stderr[-3000:])
-        return r
-
-    def assert_same_frames(self, serial, distributed, ranks):
-        """The last frame of each run: every piece node holds the one-process values bit for bit."""
-        last_serial, last_pieces = pvd_files(serial)[-1], pvd_files(distributed)[-1]
-        self.assertTrue(last_pieces.endswith(".pvtu"), last_pieces)
-        with open(os.path.join(distributed, last_pieces)) as f:
-            self.assertEqual(len(re.findall(r"<Piece Source=", f.read())), ranks)
-        a, cells_a = read_frame(os.path.join(serial, last_serial))
-        b, cells_b = read_frame(os.path.join(distributed, last_pieces))
-        self.assertEqual(cells_a, cells_b)  # every cell in exactly one piece
-        at = {p: i for i, p in enumerate(a["Points"])}
-        self.assertEqual(set(at), set(b["Points"]))
-        names = [n for n in b if n != "Points"]  # the point arrays the .pvtu lists
-        self.assertIn("pressure", names)
-        for j, p in enumerate(b["Points"]):
-            i = at[p]
-            for name in names:
-                self.assertEqual(a[name][i], b[name][j], f"{name} at {p}")
-
     def test_moving_mesh_flow_gives_the_same_bits_on_1_2_and_3_ranks(self):
-        self.run_ok(1, "run", SOD_MOVING, "-o", self.outdir("1"), "--no-plot")
+        run_ok(self, 1, "run", SOD_MOVING, "-o", self.outdir("1"), "--no-plot")
         with open(os.path.join(self.outdir("1"), "probes.csv")) as f:
             serial = f.read()
         for ranks in (2, 3):
             out = self.outdir(str(ranks))
-            r = self.run_ok(ranks, "run", SOD_MOVING, "-o", out, "--no-plot")
+            r = run_ok(self, ranks, "run", SOD_MOVING, "-o", out, "--no-plot")
             self.assertIn(f"({ranks} MPI ranks)", r.stderr)
             self.assertEqual(r.stderr.count("flow: 111 steps"), 1, r.stderr)  # rank 0 logs alone
             with open(os.path.join(out, "probes.csv")) as f:
                 self.assertEqual(f.read(), serial)
-            self.assert_same_frames(self.outdir("1"), out, ranks)
+            assert_same_frames(self, self.outdir("1"), out, ranks)
 
     def test_steady_flow_gives_the_same_bits_on_3_ranks(self):
         args = ["--no-plot", "--set", "fluid.analysis.steps=60", "--set", "output.every=30"]
-        self.run_ok(1, "run", RAMP, "-o", self.outdir("1"), *args)
-        self.run_ok(3, "run", RAMP, "-o", self.outdir("3"), *args)
+        run_ok(self, 1, "run", RAMP, "-o", self.outdir("1"), *args)
+        run_ok(self, 3, "run", RAMP, "-o", self.outdir("3"), *args)
         for name in ("probes.csv",):
             with open(os.path.join(self.outdir("1"), name)) as f, open(os.path.join(self.outdir("3"), name)) as g:
                 self.assertEqual(f.read(), g.read())
-        self.assert_same_frames(self.outdir("1"), self.outdir("3"), 3)
+        assert_same_frames(self, self.outdir("1"), self.outdir("3"), 3)
 
     def test_a_checkpoint_restarts_on_another_rank_count(self):
-        self.run_ok(1, "run", SOD_MOVING, "-o", self.outdir("straight"), "--no-plot")
+        run_ok(self, 1, "run", SOD_MOVING, "-o", self.outdir("straight"), "--no-plot")
         with open(os.path.join(self.outdir("straight"), "probes.csv")) as f:
             straight = f.read()
         # 2 ranks -> 3 ranks, and 1 process -> 2 ranks.
         for first, then, name in ((2, 3, "a"), (1, 2, "b")):
             out = self.outdir(name)
-            self.run_ok(first, "run", SOD_MOVING, "-o", out, "--no-plot", "--stop-after", "40", code=75)
+            run_ok(self, first, "run", SOD_MOVING, "-o", out, "--no-plot", "--stop-after", "40", code=75)
             self.assertTrue(os.path.exists(os.path.join(out, "checkpoint_000040.ckpt")))
-            r = self.run_ok(then, "run", SOD_MOVING, "--restart", out, "--no-plot")
+            r = run_ok(self, then, "run", SOD_MOVING, "--restart", out, "--no-plot")
             self.assertIn("restart from", r.stderr)
             with open(os.path.join(out, "probes.csv")) as f:
                 self.assertEqual(f.read(), straight, f"{first} -> {then} ranks")
-            self.assert_same_frames(self.outdir("straight"), out, then)
+            assert_same_frames(self, self.outdir("straight"), out, then)
+
+
+class DistributedCoupledRuns(unittest.TestCase):
+    """Coupled Euler runs: the flow on the ranks' parts, the shell and the space mesh whole on
+    every rank; probes.csv, response.json, coupling.csv and the frames as in one process."""
+
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def assert_same_files(self, a, b, names=COUPLED_FILES):
+        for name in names:
+            with open(os.path.join(a, name)) as f, open(os.path.join(b, name)) as g:
+                self.assertEqual(f.read(), g.read(), name)
+
+    def test_staggered_panel_flutter_gives_the_same_bits_on_2_and_3_ranks(self):
+        args = ["--no-plot", "--set", "time.end=0.003"]
+        one = os.path.join(self.tmp.name, "1")
+        run_ok(self, 1, "run", PANEL_COARSE, "-o", one, *args)
+        for ranks in (2, 3):
+            out = os.path.join(self.tmp.name, str(ranks))
+            run_ok(self, ranks, "run", PANEL_COARSE, "-o", out, *args)
+            self.assert_same_files(one, out)
+            assert_same_frames(self, one, out, ranks)
+
+    def test_implicit_coupling_gives_the_same_bits_on_2_ranks(self):
+        args = ["--no-plot", "--set", "time.end=0.001"]
+        one, two = (os.path.join(self.tmp.name, n) for n in ("1", "2"))
+        run_ok(self, 1, "run", STRONG, "-o", one, *args)
+        run_ok(self, 2, "run", STRONG, "-o", two, *args)
+        self.assert_same_files(one, two)
+
+    def test_a_coupled_checkpoint_restarts_on_another_rank_count(self):
+        args = ["--no-plot", "--set", "time.end=0.003"]
+        straight = os.path.join(self.tmp.name, "straight")
+        run_ok(self, 1, "run", PANEL_COARSE, "-o", straight, *args)
+        for first, then, name in ((2, 1, "a"), (3, 2, "b")):
+            out = os.path.join(self.tmp.name, name)
+            run_ok(self, first, "run", PANEL_COARSE, "-o", out, *args, "--stop-after", "12", code=75)
+            run_ok(self, then, "run", PANEL_COARSE, "--restart", out, *args)
+            self.assert_same_files(straight, out)
 
 
 class DistributedRefusalsAndErrors(unittest.TestCase):
     """One line for what does not run on ranks, and for an error found on one rank."""
 
-    def test_a_coupled_case_is_refused_on_ranks_before_anything_is_written(self):
+    def test_a_mesh_motion_case_is_refused_on_ranks_before_anything_is_written(self):
         with tempfile.TemporaryDirectory() as tmp:
             out = os.path.join(tmp, "out")
-            r = run(2, "run", PANEL_PISTON, "-o", out, "--no-plot")
+            r = run(2, "run", MOTION, "-o", out, "--no-plot")
             self.assertNotEqual(r.returncode, 0)
             errors = [line for line in r.stderr.splitlines() if line.startswith("shellflow:")]
             self.assertEqual(len(errors), 1, r.stderr)
-            self.assertIn("a coupled run does not run on 2 MPI ranks yet", errors[0])
-            self.assertIn(PANEL_PISTON, errors[0])
+            self.assertIn("a mesh-motion run does not run on 2 MPI ranks", errors[0])
+            self.assertIn(MOTION, errors[0])
             self.assertFalse(os.path.exists(out))
 
     def test_an_inverted_element_on_one_rank_ends_every_rank_with_one_line(self):
