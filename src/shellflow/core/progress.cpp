@@ -6,8 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-
-#include "shellflow/core/output_file.h"
+#include <cstdlib>
 
 namespace shellflow {
 
@@ -18,9 +17,15 @@ Progress::Progress(double start_time, double end_time, bool enabled)
       start_(std::chrono::steady_clock::now()),
       last_draw_(start_) {}
 
-// On a terminal, and (a distributed run) on the rank that writes the output (core/output_file.h).
+namespace {
+/// Started by an MPI launcher: the ranks' output goes through it, and OpenMPI gives them a
+/// terminal even when its own output is a file, so the line would fill a batch job's log.
+bool under_mpi_launcher() { return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE"); }
+}  // namespace
+
+// On a terminal, in a process not started by an MPI launcher.
 Progress::Progress(double start_time, double end_time)
-    : Progress(start_time, end_time, isatty(STDOUT_FILENO) != 0 && process_writes_files()) {}
+    : Progress(start_time, end_time, isatty(STDOUT_FILENO) != 0 && !under_mpi_launcher()) {}
 
 Progress::~Progress() { finish(); }
 

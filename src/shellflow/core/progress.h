@@ -10,7 +10,8 @@ class Progress {
  public:
   /// `end_time`: simulated time at which the run ends (> start_time).
   Progress(double start_time, double end_time, bool enabled);
-  /// Enabled when stdout is a terminal.
+  /// Enabled when stdout is a terminal, and not under an MPI launcher (mpirun gives the ranks a
+  /// terminal even when its own output goes to a file).
   Progress(double start_time, double end_time);
   ~Progress();
 
