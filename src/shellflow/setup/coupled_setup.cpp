@@ -147,8 +147,10 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
                                                     [load_function](double t) { return load_function.value(t); });
   const bool monolithic = k.scheme == io::CouplingSection::Scheme::monolithic;
   if (monolithic) {
-    s.piston->theory().matrices(s.piston_stiffness, s.piston_damping);
-    s.solver->set_linear_load(&s.piston_stiffness, &s.piston_damping);
+    s.piston_stiffness = std::make_unique<shell::SparseMatrix>();
+    s.piston_damping = std::make_unique<shell::SparseMatrix>();
+    s.piston->theory().matrices(*s.piston_stiffness, *s.piston_damping);
+    s.solver->set_linear_load(s.piston_stiffness.get(), s.piston_damping.get());
   }
   const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
   s.solver->set_initial_state(zero, zero);

@@ -26,9 +26,11 @@ struct CoupledSystem {
   std::vector<Index> new_index;            ///< case fluid node -> solver node
   std::unique_ptr<coupling::ShellStepMotion> motion;
   std::unique_ptr<coupling::AerodynamicModel> aerodynamics;
-  coupling::FlowModel* flow = nullptr;                   ///< the aerodynamic model when it is a FlowModel
-  coupling::PistonLoads* piston = nullptr;               ///< ... when it is piston theory
-  shell::SparseMatrix piston_stiffness, piston_damping;  ///< monolithic scheme
+  coupling::FlowModel* flow = nullptr;      ///< the aerodynamic model when it is a FlowModel
+  coupling::PistonLoads* piston = nullptr;  ///< ... when it is piston theory
+  /// Monolithic scheme: the linear load's matrices, on the heap so that the solver's pointers to
+  /// them survive a move of the system.
+  std::unique_ptr<shell::SparseMatrix> piston_stiffness, piston_damping;
   std::unique_ptr<coupling::PartitionedSolver> driver;
   double reference_pressure = 0.0;  ///< p_ref of the exchanged pressure rise (free stream)
   std::unique_ptr<FlowPart> part;   ///< the flow's part of the fluid mesh (distributed runs)
