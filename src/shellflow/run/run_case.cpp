@@ -86,18 +86,15 @@ int run_case(const io::Case& c, const RunOptions& options) {
   dist::on_every_rank(ranks, [&] {
     if (root) load();
   });
-  if (!root) {
+  if (ranks) {
     std::string path = folder.path.string();
     ranks->broadcast(path);
     folder.path = path;
     dist::on_every_rank(ranks, [&] {
-      checkpoint = options.stop.restart ? std::optional(load_restart(*options.stop.restart, c)) : std::nullopt;
+      if (root) return;
+      if (options.stop.restart) checkpoint = load_restart(*options.stop.restart, c);
       meshes.emplace(io::load_case_meshes(c, std::nullopt, folder.path));
     });
-  } else if (ranks) {
-    std::string path = folder.path.string();
-    ranks->broadcast(path);
-    dist::on_every_rank(ranks, [] {});
   }
   const std::filesystem::path& outdir = folder.path;
   spdlog::info("case '{}' -> {}{}", c.name, outdir.string(),
