@@ -63,6 +63,7 @@ TEST(CaseNames, EveryEnumeratorRoundTripsThroughToStringAndTheParser) {
   expect_round_trip(detail::kShellLoadTypes);
   expect_round_trip(detail::kShellAnalysisTypes);
   expect_round_trip(detail::kFluidBoundaryTypes);
+  expect_round_trip(detail::kFluidSlipWalls);
   expect_round_trip(detail::kMotionMethods);
   expect_round_trip(detail::kMotionWeightings);
   expect_round_trip(detail::kProbeComponents);

@@ -19,8 +19,10 @@ int count_on_boundary(const Vec3& x) {
   return n;
 }
 
-FluidModel wall_cube(WallVelocity wall_velocity = {}) {
+/// The unit cube of slip walls, imposed strongly (projected at the nodes) unless `weak`.
+FluidModel wall_cube(WallVelocity wall_velocity = {}, bool weak = false) {
   FluidOptions o;
+  o.weak_slip_walls = weak;
   return FluidModel(test_support::case_mesh("unit_cube.geo"), o,
                     {{"boundary", BoundaryKind::slip_wall, {}, std::move(wall_velocity)}});
 }
@@ -61,6 +63,103 @@ TEST(BoundaryConditions, MovingSlipWallImposesOnlyTheNormalWallVelocity) {
       const bool constrained = x[j] < 1e-9 || x[j] > 1 - 1e-9;
       EXPECT_NEAR(s.velocity[j], constrained ? v_wall[j] : given.velocity[j], 1e-12);
     }
+  }
+}
+
+TEST(BoundaryConditions, WeakSlipWallsLeaveTheNodesFreeAndTakeTheWallsFlux) {
+  // Weak walls project nothing at the nodes; their flux correction is the integral of
+  // N_a (F(U) - F(U*)) . n over the wall faces. For a uniform state U with velocity u on the
+  // cube (wall velocity v_w): U* has the normal velocity v_w . n, so the corrections of the
+  // mass row sum to dt rho (u - v_w) . n A over each face of the cube, the energy row to
+  // dt (rho E + p) u.n - (rho E* + p) v_w.n summed likewise: every face of the cube alike, the
+  // sum over the six faces is zero for the mass and the energy, and the momentum rows sum to
+  // dt rho sum_faces A [u (u.n) - u* (v_w.n)].
+  const Vec3 v_wall(0.3, -0.1, 0.2), u(0.5, 0.2, -0.4);
+  auto model = wall_cube([&](Index, const Vec3&, double) { return v_wall; }, true);
+  const Primitive given{1.2, u, 2.0};
+  model.set_state([&](const Vec3&) { return given; });
+  for (Index a = 0; a < model.mesh().num_nodes(); ++a) EXPECT_EQ(model.primitive(a).velocity, u) << "node " << a;
+  FluidState r;
+  r.resize(model.mesh().num_nodes());
+  r.fill_zero();
+  const double dt = 0.01;
+  const IdealGas gas;
+  model.boundaries().add_weak_wall_flux(gas, 0.0, dt, model.positions(), model.state(), r);
+  Conservative sum{0.0, Vec3::Zero(), 0.0};
+  for (Index a = 0; a < r.size(); ++a) {
+    const Conservative q = r.get(a);
+    sum.rho += q.rho;
+    sum.momentum += q.momentum;
+    sum.energy += q.energy;
+  }
+  Vec3 momentum = Vec3::Zero();
+  for (int j = 0; j < 3; ++j)
+    for (const double side : {-1.0, 1.0}) {
+      const Vec3 n = side * Vec3::Unit(j);
+      const Vec3 u_star = u + (v_wall - u).dot(n) * n;
+      momentum += dt * given.rho * (u * u.dot(n) - u_star * v_wall.dot(n));
+    }
+  EXPECT_NEAR(sum.rho, 0.0, 1e-15);
+  EXPECT_NEAR(sum.energy, 0.0, 1e-14);
+  EXPECT_LT((sum.momentum - momentum).norm(), 1e-14) << sum.momentum.transpose() << " vs " << momentum.transpose();
+  // A node inside the face x = 1 (uniform G = F(U).n - F(U*).n there): every row is its
+  // share of the face times G, the share read off the mass row; the shares add up to less than
+  // the face's area (the rim nodes hold the rest).
+  const Vec3 n = Vec3::UnitX();
+  const Vec3 u_star = u + (v_wall - u).dot(n) * n;
+  const double e = given.pressure / (gas.gamma - 1.0) + 0.5 * given.rho * u.squaredNorm();
+  const double e_star = given.pressure / (gas.gamma - 1.0) + 0.5 * given.rho * u_star.squaredNorm();
+  const double g_mass = given.rho * (u - v_wall).dot(n);
+  const Vec3 g_momentum = given.rho * (u * u.dot(n) - u_star * v_wall.dot(n));
+  const double g_energy = (e + given.pressure) * u.dot(n) - (e_star + given.pressure) * v_wall.dot(n);
+  double shares = 0.0;
+  int inside = 0;
+  for (Index a = 0; a < r.size(); ++a) {
+    const Vec3& x = model.positions()[std::size_t(a)];
+    if (!(x.x() > 1 - 1e-9 && count_on_boundary(x) == 1)) continue;
+    const Conservative q = r.get(a);
+    const double share = q.rho / (dt * g_mass);
+    EXPECT_GT(share, 0.0);
+    EXPECT_LT((q.momentum - dt * share * g_momentum).norm(), 1e-14) << "node " << a;
+    EXPECT_NEAR(q.energy, dt * share * g_energy, 1e-14) << "node " << a;
+    shares += share;
+    ++inside;
+  }
+  EXPECT_GT(inside, 0);
+  EXPECT_GT(shares, 0.5);
+  EXPECT_LT(shares, 1.0);
+}
+
+TEST(BoundaryConditions, ConsistentMassSweepsKeepTheWallConstraints) {
+  // Strong walls inside the consistent-mass sweeps: after impose_wall_increments the new
+  // state meets (u - v_w) . n = 0 at every wall node, with its pressure kept; other nodes keep
+  // their increments.
+  const Vec3 v_wall(0.3, -0.1, 0.2);
+  auto model = wall_cube([&](Index, const Vec3&, double) { return v_wall; });
+  model.set_state(random_state);
+  const FluidState& old = model.state();
+  FluidState d;
+  d.resize(old.size());
+  for (Index a = 0; a < d.size(); ++a) d.set(a, {0.01 * (a % 5), Vec3(0.3, -0.2, 0.1), 0.05});
+  const IdealGas gas;
+  model.boundaries().impose_wall_increments(gas, 0.0, model.positions(), old, d);
+  for (Index a = 0; a < d.size(); ++a) {
+    const Vec3& x = model.positions()[std::size_t(a)];
+    const Conservative q = old.get(a), dq = d.get(a);
+    const Conservative next{q.rho + dq.rho, q.momentum + dq.momentum, q.energy + dq.energy};
+    EXPECT_DOUBLE_EQ(dq.rho, 0.01 * (a % 5));
+    if (count_on_boundary(x) == 0) {
+      EXPECT_EQ(dq.momentum, Vec3(0.3, -0.2, 0.1));
+      EXPECT_EQ(dq.energy, 0.05);
+      continue;
+    }
+    const Vec3 velocity = next.momentum / next.rho;
+    for (int j = 0; j < 3; ++j)
+      if (x[j] < 1e-9 || x[j] > 1 - 1e-9) {
+        EXPECT_NEAR(velocity[j], v_wall[j], 1e-12) << "node " << a;
+      }
+    const Conservative unconstrained{q.rho + dq.rho, q.momentum + Vec3(0.3, -0.2, 0.1), q.energy + 0.05};
+    EXPECT_NEAR(to_primitive(gas, next).pressure, to_primitive(gas, unconstrained).pressure, 1e-12);
   }
 }
 

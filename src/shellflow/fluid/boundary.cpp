@@ -168,6 +168,7 @@ BoundarySet::BoundarySet(const mesh::Mesh& mesh, std::span<const Index> tets, co
           conditions_[std::size_t(f.condition)].group, mesh.name, f.face.nodes[0], f.face.nodes[1], f.face.nodes[2]));
     const auto kind = conditions_[std::size_t(f.condition)].kind;
     if (kind == BoundaryKind::supersonic_outflow || kind == BoundaryKind::far_field) natural_faces_.push_back(f.face);
+    if (kind == BoundaryKind::slip_wall) slip_wall_faces_.push_back(f.face);
     if (kind == BoundaryKind::no_slip_wall && !conditions_[std::size_t(f.condition)].wall_temperature)
       adiabatic_wall_faces_.push_back(f.face);
   }

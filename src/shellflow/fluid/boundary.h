@@ -123,6 +123,24 @@ class BoundarySet {
   void impose_dirichlet_increments(const IdealGas& gas, double t, std::span<const Vec3> x, const FluidState& u_old,
                                    FluidState& increment) const;
 
+  /// Projects the increments of the slip-wall and symmetry nodes so that u_old + increment
+  /// meets their wall constraints (the projection of apply, pressure kept), for the
+  /// consistent-mass iterations: without it the unconstrained normal momentum of those nodes
+  /// spreads to their neighbours through the consistent mass during the sweeps.
+  void impose_wall_increments(const IdealGas& gas, double t, std::span<const Vec3> x, const FluidState& u_old,
+                              FluidState& increment) const;
+
+  /// Weak slip walls (docs/fluid.md "Slip walls"): adds to r the change of the Galerkin
+  /// residual when the gas's normal flux through the slip-wall faces, F(U) . n, is replaced by
+  /// the wall's, F(U*) . n with U* = U less its normal velocity relative to the wall (pressure
+  /// kept): r_a += dt * integral of N_a (F(U) - F(U*)) . n over the faces (exact for linear
+  /// fluxes: consistent surface quadrature). With it, apply() leaves the slip-wall normals to the
+  /// flux and imposes only the symmetry planes'.
+  void add_weak_wall_flux(const IdealGas& gas, double t, double dt, std::span<const Vec3> x, const FluidState& u,
+                          FluidState& r) const;
+  bool weak_walls() const { return weak_walls_; }
+  void set_weak_walls(bool weak) { weak_walls_ = weak; }
+
   /// Faces of natural boundaries (outflow and far field) for the C3 term.
   std::span<const BoundaryFace> natural_faces() const { return natural_faces_; }
   /// Faces of adiabatic no-slip walls (they carry the work of the viscous stress).
@@ -156,11 +174,17 @@ class BoundarySet {
   Vec3 no_slip_velocity(std::size_t s, Index a, const Vec3& x, double t) const;
   void apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w, std::size_t s,
                        FluidState& u) const;
-  void apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s, FluidState& u) const;
+  /// q with the wall constraints of wall node s imposed (pressure kept).
+  Conservative wall_projection(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
+                               Conservative q) const;
+  /// Whether a slip wall takes its velocity from a closure (then its passes run serially).
+  bool wall_closures() const;
   std::vector<BoundaryCondition> conditions_;
   std::vector<Face> faces_;
   std::unordered_map<std::array<Index, 3>, std::size_t, FaceKeyHash> face_index_;
   std::vector<BoundaryFace> natural_faces_;
+  std::vector<BoundaryFace> slip_wall_faces_;
+  bool weak_walls_ = false;
   std::vector<BoundaryFace> adiabatic_wall_faces_;
   // no-slip nodes and their condition
   std::vector<Index> no_slip_nodes_;

@@ -96,6 +96,43 @@ void BoundarySet::impose_dirichlet_increments(const IdealGas& gas, double t, std
   }
 }
 
+void BoundarySet::add_weak_wall_flux(const IdealGas& gas, double t, double dt, std::span<const Vec3> x,
+                                     const FluidState& u, FluidState& r) const {
+  // Serial: faces share nodes, and wall-velocity closures run on the calling thread.
+  for (const BoundaryFace& f : slip_wall_faces_) {
+    const Vec3 area = face_area_vector(x, f);
+    const double a_f = area.norm();
+    const Vec3 n = area / a_f;
+    std::array<std::array<double, num_variables>, 3> g{};
+    for (int k = 0; k < 3; ++k) {
+      const Index a = f.nodes[std::size_t(k)];
+      const Index s = wall_slot_[std::size_t(a)];
+      if (s < 0) continue;  // an inflow or no-slip node: its values are imposed
+      const Conservative q = u.get(a);
+      const double p = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy);
+      const Vec3 vel = q.momentum / q.rho;
+      const double vn = vel.dot(n);
+      const double wn = slip_velocity(std::size_t(s), a, x[std::size_t(a)], t).dot(n);
+      // F(U).n - F(U*).n: U* has the normal velocity wn, the same rho, tangential velocity and p.
+      const Vec3 m_star = q.momentum + q.rho * (wn - vn) * n;
+      const double e_star = p / (gas.gamma - 1.0) + 0.5 * m_star.squaredNorm() / q.rho;
+      g[std::size_t(k)][0] = q.rho * (vn - wn);
+      for (int j = 0; j < 3; ++j) g[std::size_t(k)][std::size_t(1 + j)] = q.momentum[j] * vn - m_star[j] * wn;
+      g[std::size_t(k)][4] = (q.energy + p) * vn - (e_star + p) * wn;
+    }
+    for (int k = 0; k < 3; ++k) {
+      const Index a = f.nodes[std::size_t(k)];
+      if (wall_slot_[std::size_t(a)] < 0) continue;
+      for (int v = 0; v < num_variables; ++v) {
+        const double integral = a_f / 12.0 *
+                                (2.0 * g[std::size_t(k)][std::size_t(v)] + g[std::size_t((k + 1) % 3)][std::size_t(v)] +
+                                 g[std::size_t((k + 2) % 3)][std::size_t(v)]);
+        r.var[std::size_t(v)][std::size_t(a)] += dt * integral;
+      }
+    }
+  }
+}
+
 void BoundarySet::apply_far_field(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w,
                                   std::size_t s, FluidState& u) const {
   const double gm1 = gas.gamma - 1.0;
@@ -127,22 +164,47 @@ void BoundarySet::apply_far_field(const IdealGas& gas, double t, std::span<const
   u.set(a, to_conservative(gas, b));
 }
 
-void BoundarySet::apply_wall(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
-                             FluidState& u) const {
+Conservative BoundarySet::wall_projection(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
+                                          Conservative q) const {
   const Index a = wall_nodes_[s];
-  Conservative q = u.get(a);
   const double p = gas.pressure(q.rho, q.momentum.x(), q.momentum.y(), q.momentum.z(), q.energy);
   // Symmetry normals: u . n = 0; slip-wall normals (orthogonal to them): (u - v_wall) . n = 0.
   const Vec3 velocity = q.momentum / q.rho;
   const Vec3 relative = velocity - slip_velocity(s, a, x[std::size_t(a)], t);
   const int m_sym = wall_num_sym_normals_[s];
-  for (int i = 0; i < wall_num_normals_[s]; ++i) {
+  const int m = weak_walls_ ? m_sym : wall_num_normals_[s];
+  for (int i = 0; i < m; ++i) {
     const Vec3& n = wall_normals_[s][std::size_t(i)];
     const Vec3& r = i < m_sym ? velocity : relative;
     q.momentum -= q.rho * r.dot(n) * n;
   }
   q.energy = p / (gas.gamma - 1.0) + 0.5 * q.momentum.squaredNorm() / q.rho;
-  u.set(a, q);
+  return q;
+}
+
+bool BoundarySet::wall_closures() const {
+  // Closures may not be safe to call from several threads: passes that call them run serially.
+  for (std::size_t c = 0; c < conditions_.size(); ++c) {
+    const auto& bc = conditions_[c];
+    if (bc.kind == BoundaryKind::slip_wall && bc.wall_velocity && set_velocity_[c].empty()) return true;
+  }
+  return false;
+}
+
+void BoundarySet::impose_wall_increments(const IdealGas& gas, double t, std::span<const Vec3> x,
+                                         const FluidState& u_old, FluidState& increment) const {
+  const auto nw = Index(wall_nodes_.size());
+  parallel::for_range(
+      nw, parallel::grain_if(!wall_closures() && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, nw),
+      [&](Index begin, Index end) {
+        for (Index s = begin; s < end; ++s) {
+          const Index a = wall_nodes_[std::size_t(s)];
+          const Conservative old = u_old.get(a), d = increment.get(a);
+          const Conservative q = wall_projection(gas, t, x, std::size_t(s),
+                                                 {old.rho + d.rho, old.momentum + d.momentum, old.energy + d.energy});
+          increment.set(a, {d.rho, q.momentum - old.momentum, q.energy - old.energy});  // rho is free
+        }
+      });
 }
 
 void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w, FluidState& u,
@@ -154,13 +216,8 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
   }
 
   // Closures may not be safe to call from several threads: passes that call them run serially.
-  bool far_closures = false, wall_closures = false;
-  for (std::size_t c = 0; c < conditions_.size(); ++c) {
-    const auto& bc = conditions_[c];
-    far_closures = far_closures || (bc.kind == BoundaryKind::far_field && bc.state_at);
-    wall_closures =
-        wall_closures || (bc.kind == BoundaryKind::slip_wall && bc.wall_velocity && set_velocity_[c].empty());
-  }
+  bool far_closures = false;
+  for (const auto& bc : conditions_) far_closures = far_closures || (bc.kind == BoundaryKind::far_field && bc.state_at);
   // Far field first: on slabs its nodes may be symmetry or wall nodes too, whose normal
   // components the wall pass below then removes.
   const auto nf = std::ptrdiff_t(far_nodes_.size());
@@ -193,12 +250,14 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
     u.set(a, q);
   }
 
-  const auto nw = std::ptrdiff_t(wall_nodes_.size());
+  const auto nw = Index(wall_nodes_.size());
   parallel::for_range(
-      Index(nw),
-      parallel::grain_if(!wall_closures && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, Index(nw)),
+      nw, parallel::grain_if(!wall_closures() && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, nw),
       [&](Index begin, Index end) {
-        for (Index s = begin; s < end; ++s) apply_wall(gas, t, x, std::size_t(s), u);
+        for (Index s = begin; s < end; ++s) {
+          const Index a = wall_nodes_[std::size_t(s)];
+          u.set(a, wall_projection(gas, t, x, std::size_t(s), u.get(a)));
+        }
       });
 }
 

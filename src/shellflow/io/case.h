@@ -243,6 +243,7 @@ void check_physical_groups(const Case& c, const GroupNamesOfMesh& groups_of_mesh
 std::string_view to_string(MeshFormat f);
 std::string_view to_string(SupportType t);
 std::string_view to_string(FluidBoundaryType t);
+std::string_view to_string(FluidSlipWalls w);
 std::string_view to_string(ProbeComponent c);
 std::string_view to_string(ProbeLocation l);
 std::string_view to_string(ProbeReduce r);

@@ -159,6 +159,7 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
                                                                            : FluidAnalysisType::transient;
     analysis.q_dif = a->optional<double>("q_dif", 0.0, Range::non_negative());
     analysis.consistent_mass_iterations = a->optional<int>("consistent_mass_iterations", 0, Range::in_range(0, 20));
+    analysis.slip_walls = read_enum(*a, "slip_walls", kFluidSlipWalls, FluidSlipWalls::weak);
     analysis.cfl =
         a->optional<double>("cfl", 0.5, Range{0.0, analysis.consistent_mass_iterations > 0 ? 0.6 : 1.0, true, false});
     if (analysis.type == FluidAnalysisType::steady) {
@@ -211,5 +212,6 @@ void SpaceTimeScalar::fail_non_finite(const Vec3& X, double t, double value, boo
 }
 
 std::string_view to_string(FluidBoundaryType t) { return detail::name_of(detail::kFluidBoundaryTypes, t); }
+std::string_view to_string(FluidSlipWalls w) { return detail::name_of(detail::kFluidSlipWalls, w); }
 
 }  // namespace shellflow::io

@@ -119,14 +119,19 @@ struct RiemannInitial {
 
 enum class FluidAnalysisType { transient, steady };
 
+/// How slip walls are imposed (docs/fluid.md "Slip walls"): weak through the wall's flux
+/// (default), or strong by projecting the nodal momentum (the paper's eq. 29).
+enum class FluidSlipWalls { weak, strong };
+
 struct FluidAnalysis {
   FluidAnalysisType type = FluidAnalysisType::transient;
   double cfl = 0.5;  ///< (0, 1] lumped mass, (0, 0.6] consistent
   int steps = 1000;  ///< steady: local time steps (at most)
   /// steady: stop once the density rate is below this fraction of its first-step value
   std::optional<double> residual_drop;
-  double q_dif = 0.0;                     ///< artificial viscosity coefficient (paper eq. 28)
-  int consistent_mass_iterations = 0;     ///< 0: lumped mass
+  double q_dif = 0.0;                  ///< artificial viscosity coefficient (paper eq. 28)
+  int consistent_mass_iterations = 0;  ///< 0: lumped mass
+  FluidSlipWalls slip_walls = FluidSlipWalls::weak;
   std::optional<RiemannInitial> riemann;  ///< initial state; absent: `initial` or the free stream
   std::optional<SpaceTimeState> initial;  ///< initial state as fields of x, y, z (t = 0)
   SourceLocation where;

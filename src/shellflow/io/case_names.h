@@ -129,6 +129,12 @@ inline constexpr std::array<EnumName<FluidBoundaryType>, 6> kFluidBoundaryTypes 
 }};
 static_assert(covers_in_order(kFluidBoundaryTypes));
 
+inline constexpr std::array<EnumName<FluidSlipWalls>, 2> kFluidSlipWalls = {{
+    {FluidSlipWalls::weak, "weak"},
+    {FluidSlipWalls::strong, "strong"},
+}};
+static_assert(covers_in_order(kFluidSlipWalls));
+
 inline constexpr std::array<EnumName<MotionMethod>, 3> kMotionMethods = {{
     {MotionMethod::space_mesh, "space_mesh"},
     {MotionMethod::direct_idw, "direct_idw"},

@@ -55,6 +55,7 @@ fluid::FluidOptions fluid_options(const io::FluidSection& section) {
   if (section.analysis) {
     options.q_dif = section.analysis->q_dif;
     options.consistent_mass_iterations = section.analysis->consistent_mass_iterations;
+    options.weak_slip_walls = section.analysis->slip_walls == io::FluidSlipWalls::weak;
   }
   return options;
 }
