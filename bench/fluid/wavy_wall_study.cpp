@@ -1,6 +1,6 @@
 // The flow's error per wavelength on the wavy wall (tests/support/wavy_wall.h): one CSV row per
-// mesh density, for the scheme options given. bench/fluid/wavy_wall.py runs the table of
-// docs/fluid.md and plots it.
+// mesh density, for the scheme options given. bench/fluid/wavy_wall.py runs the tables of
+// docs/fluid.md and plots them.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <string>
@@ -27,28 +27,21 @@ int main(int argc, char** argv) {
   app.add_option("--slip-walls", walls, "weak (the wall's flux) or strong (nodal projection)")
       ->check(CLI::IsMember({"weak", "strong"}))
       ->capture_default_str();
-  std::string scheme = "one_step";
-  app.add_option("--scheme", scheme, "one_step or ttgc")
-      ->check(CLI::IsMember({"one_step", "ttgc"}))
-      ->capture_default_str();
-  app.add_option("--ttgc-gamma", s.options.ttgc_gamma, "TTGC's gamma")->capture_default_str();
   app.add_option("--cfl", s.cfl, "CFL number")->capture_default_str();
   app.add_flag("--header", header, "print the CSV header first");
   CLI11_PARSE(app, argc, argv);
   s.options.weak_slip_walls = walls == "weak";
-  s.options.scheme = scheme == "ttgc" ? shellflow::fluid::TimeScheme::ttgc : shellflow::fluid::TimeScheme::one_step;
   if (header)
     std::printf(
-        "mach,wave_speed,mesh,motion,slip_walls,scheme,q_dif,consistent_mass,cfl,cells_per_wavelength,tets,steps,"
-        "seconds,"
-        "amplitude_ratio,phase_deg,loss_per_wavelength,drift_deg_per_wavelength\n");
+        "mach,wave_speed,mesh,motion,slip_walls,q_dif,consistent_mass,cfl,cells_per_wavelength,tets,steps,"
+        "seconds,amplitude_ratio,phase_deg,loss_per_wavelength,drift_deg_per_wavelength\n");
   for (const double c : cells) {
     s.cells_per_wavelength = c;
     const auto r = shellflow::support::run_wavy_wall(s);
-    std::printf("%g,%g,%s,%s,%s,%s,%g,%d,%g,%g,%ld,%ld,%.2f,%.6f,%.4f,%.6f,%.4f\n", s.mach, s.wave_speed,
+    std::printf("%g,%g,%s,%s,%s,%g,%d,%g,%g,%ld,%ld,%.2f,%.6f,%.4f,%.6f,%.4f\n", s.mach, s.wave_speed,
                 s.unstructured ? "unstructured" : "slab", s.moving_mesh ? "mesh" : "transpiration", walls.c_str(),
-                scheme.c_str(), s.options.q_dif, s.options.consistent_mass_iterations, s.cfl, c, long(r.cells), r.steps,
-                r.seconds, r.amplitude_ratio, r.phase_deg, r.loss_per_wavelength, r.drift_per_wavelength);
+                s.options.q_dif, s.options.consistent_mass_iterations, s.cfl, c, long(r.cells), r.steps, r.seconds,
+                r.amplitude_ratio, r.phase_deg, r.loss_per_wavelength, r.drift_per_wavelength);
     std::fflush(stdout);
     if (!wall_csv.empty()) {
       std::FILE* f = std::fopen(wall_csv.c_str(), "w");

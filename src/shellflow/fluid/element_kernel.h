@@ -210,12 +210,10 @@ inline void compute_element(const KernelConstants& k, ElementData<Real>& s) {
 /// The element's contributions value[a][v] to the nodal residuals (fluid.md §4.2 table).
 /// `dt` is the step of the first-order rows (1 with local stepping: the nodal dt_a is
 /// applied when scattering), `dt_element` the second factor of the Taylor–Galerkin rows
-/// (fluid.md §4.3). Split: the second-order (Taylor–Galerkin) rows go to `second` instead,
-/// for the two-step scheme, which weights them apart (fluid.md "TTGC").
-template <bool Split = false, class Real>
+/// (fluid.md §4.3).
+template <class Real>
 inline void element_contributions(const KernelConstants& k, const ElementData<Real>& s, const Real& viscosity,
-                                  const Real& dt, const Real& dt_element, Real value[4][num_variables],
-                                  Real second[4][num_variables] = nullptr) {
+                                  const Real& dt, const Real& dt_element, Real value[4][num_variables]) {
   const auto& B = s.grad;
   const Real V = s.volume;
   const Real c_flux = -0.25 * dt * V;
@@ -225,32 +223,17 @@ inline void element_contributions(const KernelConstants& k, const ElementData<Re
     // Node-independent part, and the vector that B_a multiplies (TG term + diffusion).
     const Real common = c_flux * s.flux_div[v];
     Real g[3];
-    if constexpr (Split) {
-      Real g2[3];
-      for (int j = 0; j < 3; ++j) {
-        g[j] = c_visc * s.grad_u[v][j];
-        g2[j] = c_tg * s.tg_flux[j][v];
-      }
-      for (int a = 0; a < 4; ++a) {
-        value[a][v] = common + B[a][0] * g[0] + B[a][1] * g[1] + B[a][2] * g[2];
-        second[a][v] = B[a][0] * g2[0] + B[a][1] * g2[1] + B[a][2] * g2[2];
-      }
-    } else {
-      for (int j = 0; j < 3; ++j) g[j] = c_tg * s.tg_flux[j][v] + c_visc * s.grad_u[v][j];
-      for (int a = 0; a < 4; ++a) value[a][v] = common + B[a][0] * g[0] + B[a][1] * g[1] + B[a][2] * g[2];
-    }
+    for (int j = 0; j < 3; ++j) g[j] = c_tg * s.tg_flux[j][v] + c_visc * s.grad_u[v][j];
+    for (int a = 0; a < 4; ++a) value[a][v] = common + B[a][0] * g[0] + B[a][1] * g[1] + B[a][2] * g[2];
   }
   if (!k.mesh_moves) return;
   const Real c_mesh = dt * V / 20.0;
   const Real c_tg_mesh = 0.125 * dt * dt_element * V;
   for (int v = 0; v < num_variables; ++v) {
-    const Real first_order = 4.0 * c_mesh * s.mesh_term[v];
-    const Real common = Split ? first_order : first_order + c_tg_mesh * s.tg_mesh[v];
-    for (int a = 0; a < 4; ++a) {
+    const Real common = 4.0 * c_mesh * s.mesh_term[v] + c_tg_mesh * s.tg_mesh[v];
+    for (int a = 0; a < 4; ++a)
       value[a][v] +=
           common + c_mesh * (s.w[a][0] * s.grad_u[v][0] + s.w[a][1] * s.grad_u[v][1] + s.w[a][2] * s.grad_u[v][2]);
-      if constexpr (Split) second[a][v] += c_tg_mesh * s.tg_mesh[v];
-    }
   }
 }
 

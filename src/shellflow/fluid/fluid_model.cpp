@@ -14,8 +14,6 @@
 
 namespace shellflow::fluid {
 
-const char* to_string(TimeScheme scheme) { return scheme == TimeScheme::ttgc ? "ttgc" : "one_step"; }
-
 FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<BoundaryCondition> conditions,
                        std::optional<CellColouring> colouring)
     : mesh_(std::move(mesh)), options_(options) {
@@ -39,8 +37,6 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<Bounda
   w_.assign(std::size_t(nn), Vec3::Zero());
   compute_geometry(x_, tets_, geometry_);
   check_viscosity(options_.gas);
-  if (options_.scheme == TimeScheme::ttgc && options_.gas.viscous())
-    throw InputError("the ttgc scheme is for inviscid flow (fluid.analysis.scheme: one_step for Navier-Stokes)");
   boundaries_ = BoundarySet(mesh_, tets_, options_.gas, std::move(conditions));
   boundaries_.set_weak_walls(options_.weak_slip_walls);
   boundaries_.update_normals(x_);
@@ -176,8 +172,6 @@ double FluidModel::stable_dt(double cfl) {
 void FluidModel::set_distribution(Distribution distribution) {
   if (options_.consistent_mass_iterations > 0)
     throw InputError("a distributed flow has lumped mass only (fluid.consistent_mass_iterations = 0)");
-  if (options_.scheme != TimeScheme::one_step)
-    throw InputError("a distributed flow has the one-step scheme only (fluid.analysis.scheme: one_step)");
   if (!distribution.exchange || !distribution.min || !distribution.sum || !distribution.first_error ||
       distribution.owned < 0 || distribution.owned > mesh_.num_nodes())
     throw InputError(
@@ -262,13 +256,9 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     p.element_dt = element_dt_;
     p.nodal_dt = nodal_dt_;
   }
-  if (options_.scheme == TimeScheme::ttgc) {
-    two_step_update(p, w_step, x_next);
-  } else {
-    one_step_residual(p, w_step);
-    lap(timings_.element_pass);
-    apply_mass_inverse(residual_, time_ + dt, x_next, state_, next_state_);
-  }
+  assemble_step_residual(p, w_step);
+  lap(timings_.element_pass);
+  apply_mass_inverse(residual_, time_ + dt, x_next, state_, next_state_);
 
   lap(timings_.update);
   const double t_next = time_ + dt;
@@ -355,7 +345,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   ++timings_.steps;
 }
 
-void FluidModel::one_step_residual(const ResidualParameters& p, std::span<const Vec3> w_step) {
+void FluidModel::assemble_step_residual(const ResidualParameters& p, std::span<const Vec3> w_step) {
   assemble_residual(p, loop(), geometry_, state_, w_step, viscosity_, residual_);
   add_natural_boundary_term(p, loop(), x_, geometry_, state_, w_step, boundaries_.natural_faces(), residual_);
   if (boundaries_.weak_walls()) boundaries_.add_weak_wall_flux(options_.gas, time_, p.dt, x_, state_, residual_);
@@ -393,40 +383,6 @@ void FluidModel::apply_mass_inverse(const FluidState& r, double t_end, std::span
         out.var[std::size_t(v)][i] = base.var[std::size_t(v)][i] + r.var[std::size_t(v)][i] / m[i];
     });
   }
-}
-
-void FluidModel::two_step_update(const ResidualParameters& p, std::span<const Vec3> w_step,
-                                 std::span<const Vec3> x_next) {
-  // Colin & Rudgyard's TTGC in the residual's two parts, R1 = dt R(U) (first-order rows) and
-  // T = dt^2/2 T(U) (Taylor–Galerkin rows):
-  //   U~      = U^n + M^-1 [alpha R1(U^n) + 2 beta T(U^n)]
-  //   U^{n+1} = U^n + M^-1 [R1(U~) + 2 gamma T(U^n)],   alpha = 1/2 - gamma, beta = 1/6,
-  // third order in time for linear problems. U~ takes the boundary conditions at t + alpha dt.
-  const Index nn = mesh_.num_nodes();
-  second_.resize(nn);
-  stage_.resize(nn);
-  stage_rhs_.resize(nn);
-  const double gamma = options_.ttgc_gamma, alpha = 0.5 - gamma, beta = 1.0 / 6.0;
-  assemble_residual_split(p, loop(), geometry_, state_, w_step, viscosity_, residual_, second_);
-  add_natural_boundary_term(p, loop(), x_, geometry_, state_, w_step, boundaries_.natural_faces(), second_);
-  if (boundaries_.weak_walls()) boundaries_.add_weak_wall_flux(options_.gas, time_, p.dt, x_, state_, residual_);
-  const auto combine = [&](double a, const FluidState& first, double b) {
-    for_each_node(nn, [&](Index n) {
-      const auto i = std::size_t(n);
-      for (int v = 0; v < num_variables; ++v)
-        stage_rhs_.var[std::size_t(v)][i] = a * first.var[std::size_t(v)][i] + b * second_.var[std::size_t(v)][i];
-    });
-  };
-  combine(alpha, residual_, 2.0 * beta);
-  const double t_stage = time_ + alpha * p.dt;
-  apply_mass_inverse(stage_rhs_, t_stage, x_, state_, stage_);
-  boundaries_.apply(options_.gas, t_stage, x_, w_step, stage_);
-  // The second stage's first-order rows at U~ (its Taylor–Galerkin rows are not used).
-  increment_.resize(nn);
-  assemble_residual_split(p, loop(), geometry_, stage_, w_step, viscosity_, residual_, increment_);
-  if (boundaries_.weak_walls()) boundaries_.add_weak_wall_flux(options_.gas, t_stage, p.dt, x_, stage_, residual_);
-  combine(1.0, residual_, 2.0 * gamma);
-  apply_mass_inverse(stage_rhs_, time_ + p.dt, x_next, state_, next_state_);
 }
 
 void FluidModel::check_positivity(const FluidState& u, double t) const {
@@ -482,8 +438,7 @@ std::size_t FluidModel::memory_bytes() const {
   b += bytes(tets_) + bytes(colours_.order) + bytes(colours_.block_offsets) + bytes(x_) + bytes(w_) + bytes(w_next_) +
        bytes(rate_sums_);
   b += bytes(geometry_) + bytes(next_geometry_);
-  b += bytes(state_) + bytes(next_state_) + bytes(residual_) + bytes(increment_) + bytes(mass_work_) + bytes(second_) +
-       bytes(stage_) + bytes(stage_rhs_);
+  b += bytes(state_) + bytes(next_state_) + bytes(residual_) + bytes(increment_) + bytes(mass_work_);
   b += bytes(av_work_.pressure) + bytes(av_work_.nodal_viscosity) + bytes(av_work_.speed);
   for (const auto& g : av_work_.gradient) b += bytes(g);
   b += bytes(viscosity_) + bytes(diffusivity_) + bytes(viscous_work_) + bytes(time_step_work_) + bytes(element_dt_) +

@@ -45,13 +45,6 @@ struct StepTimings {
   }
 };
 
-/// The explicit time scheme (docs/fluid.md "Time schemes").
-enum class TimeScheme {
-  one_step,  ///< one-step Taylor–Galerkin (Lax–Wendroff): one element pass per step
-  ttgc,      ///< two-step Taylor–Galerkin "C" of Colin & Rudgyard (JCP 162, 2000): third order
-};
-const char* to_string(TimeScheme scheme);
-
 struct FluidOptions {
   IdealGas gas;              ///< gas.viscosity set: Navier–Stokes (viscous pass, no-slip walls allowed)
   double q_dif = 0.0;        ///< artificial-viscosity coefficient (paper eq. 28), 0 = off
@@ -65,9 +58,6 @@ struct FluidOptions {
   /// about 0.5 % at 8 cells per wavelength, where the strong projection is 7 % off); false:
   /// the normal momentum projected at the nodes (paper eq. 29).
   bool weak_slip_walls = true;
-  TimeScheme scheme = TimeScheme::one_step;
-  /// TTGC's gamma (Colin & Rudgyard: 0.01 to 0.02; alpha = 1/2 - gamma, beta = 1/6).
-  double ttgc_gamma = 0.01;
 };
 
 /// Load of the fluid on a boundary group at its nodes (paper eq. 30, fluid.md §12). The
@@ -242,11 +232,9 @@ class FluidModel {
   /// of the values at t_end imposed in each).
   void apply_mass_inverse(const FluidState& r, double t_end, std::span<const Vec3> x_next, const FluidState& base,
                           FluidState& out);
-  /// The residual of the one-step scheme into residual_ (element pass, natural boundary and
-  /// viscous terms).
-  void one_step_residual(const ResidualParameters& p, std::span<const Vec3> w_step);
-  /// TTGC: next_state_ from the two stages.
-  void two_step_update(const ResidualParameters& p, std::span<const Vec3> w_step, std::span<const Vec3> x_next);
+  /// The step's residual into residual_: element pass, natural boundary term, the weak
+  /// walls' flux and the viscous terms.
+  void assemble_step_residual(const ResidualParameters& p, std::span<const Vec3> w_step);
   void update_viscosity();
   /// Element diffusivities for the time-step limit (viscosity_ itself for Euler).
   std::span<const double> time_step_diffusivity();
@@ -277,7 +265,6 @@ class FluidModel {
   TetGeometry geometry_, next_geometry_;
   BoundarySet boundaries_;
   FluidState state_, next_state_, residual_, increment_, mass_work_;
-  FluidState second_, stage_, stage_rhs_;  // TTGC: Taylor–Galerkin rows, U~, a stage's right side
   ShockCapturingWorkspace av_work_;
   std::vector<double> viscosity_;
   std::vector<double> diffusivity_;  // artificial + physical, for the time-step limit

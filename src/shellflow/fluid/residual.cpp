@@ -44,10 +44,9 @@ struct PassInput {
   detail::KernelConstants k;
   double dt;
   std::array<double*, num_variables> out;
-  std::array<double*, num_variables> out_second{};  ///< Split: the Taylor–Galerkin rows
 };
 
-template <int W, bool Split>
+template <int W>
 [[gnu::always_inline]] inline void pass_block(const PassInput& in, Index first, Index last) {
   using Pack = typename PackType<W>::type;
   const auto& k = in.k;
@@ -78,40 +77,31 @@ template <int W, bool Split>
     }
     detail::compute_element(k, s);
     Pack value[4][num_variables];
-    [[maybe_unused]] Pack second[4][num_variables];
-    detail::element_contributions<Split>(k, s, viscosity, dt, dt_element, value, Split ? second : nullptr);
+    detail::element_contributions(k, s, viscosity, dt, dt_element, value);
     for (int l = 0; l < count; ++l)
       for (int a = 0; a < 4; ++a) {
         const auto node = std::size_t(nodes[l][a]);
         const double f = local ? in.nodal_dt[node] : 1.0;
-        for (int v = 0; v < num_variables; ++v) {
+        for (int v = 0; v < num_variables; ++v)
           in.out[std::size_t(v)][node] += local ? f * value[a][v][l] : value[a][v][l];
-          if constexpr (Split) in.out_second[std::size_t(v)][node] += local ? f * second[a][v][l] : second[a][v][l];
-        }
       }
   }
 }
 
 // One function per instruction set, everything inlined into it (flatten) so that the kernel
 // is compiled for that set. The parallel loop stays outside, in the baseline code.
-template <bool Split>
-[[gnu::flatten]] void pass_block_sse2(const PassInput& in, Index first, Index last) {
-  pass_block<2, Split>(in, first, last);
-}
-template <bool Split>
+[[gnu::flatten]] void pass_block_sse2(const PassInput& in, Index first, Index last) { pass_block<2>(in, first, last); }
 [[gnu::flatten, gnu::target("avx2")]] void pass_block_avx2(const PassInput& in, Index first, Index last) {
-  pass_block<4, Split>(in, first, last);
+  pass_block<4>(in, first, last);
 }
 // The project builds as ISO C++ (no contraction); this variant asks for it.
-template <bool Split>
 [[gnu::flatten, gnu::target("avx2,fma"), gnu::optimize("fp-contract=fast")]] void pass_block_avx2_fma(
     const PassInput& in, Index first, Index last) {
-  pass_block<4, Split>(in, first, last);
+  pass_block<4>(in, first, last);
 }
-template <bool Split>
 [[gnu::flatten, gnu::target("avx512f,avx512dq,avx512vl,avx2,fma"), gnu::optimize("fp-contract=fast")]] void
 pass_block_avx512(const PassInput& in, Index first, Index last) {
-  pass_block<8, Split>(in, first, last);
+  pass_block<8>(in, first, last);
 }
 
 bool cpu_has(SimdPath path) {
@@ -184,66 +174,38 @@ void set_simd_path(SimdPath path) {
   chosen_path().store(static_cast<int>(path), std::memory_order_relaxed);
 }
 
-namespace {
-
-void run_pass(PassInput& in, const ElementLoop& loop, bool split) {
+void assemble_residual(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& g, const FluidState& u,
+                       std::span<const Vec3> w, std::span<const double> element_viscosity, FluidState& r) {
+  r.fill_zero();
+  PassInput in{loop,
+               g,
+               u,
+               w,
+               element_viscosity,
+               p.element_dt,
+               p.nodal_dt,
+               {p.gas.gamma - 1.0, p.dt, p.tg_velocity == TgVelocity::relative, p.moving_mesh_correction, p.mesh_moves},
+               p.dt,
+               {}};
+  if (!p.nodal_dt.empty() && p.element_dt.empty())
+    throw Error("assemble_residual: local stepping needs element and nodal steps");
+  for (int v = 0; v < num_variables; ++v) in.out[std::size_t(v)] = r.var[std::size_t(v)].data();
   using Block = void (*)(const PassInput&, Index, Index);
-  const auto pick = [&](Block plain, Block with_split) { return split ? with_split : plain; };
-  Block block = pick(pass_block_sse2<false>, pass_block_sse2<true>);
+  Block block = pass_block_sse2;
   switch (simd_path()) {
     case SimdPath::sse2:
       break;
     case SimdPath::avx2:
-      block = pick(pass_block_avx2<false>, pass_block_avx2<true>);
+      block = pass_block_avx2;
       break;
     case SimdPath::avx2_fma:
-      block = pick(pass_block_avx2_fma<false>, pass_block_avx2_fma<true>);
+      block = pass_block_avx2_fma;
       break;
     case SimdPath::avx512:
-      block = pick(pass_block_avx512<false>, pass_block_avx512<true>);
+      block = pass_block_avx512;
       break;
   }
   for_each_block(loop, [&](Index first, Index last) { block(in, first, last); });
-}
-
-PassInput pass_input(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& g, const FluidState& u,
-                     std::span<const Vec3> w, std::span<const double> element_viscosity) {
-  if (!p.nodal_dt.empty() && p.element_dt.empty())
-    throw Error("assemble_residual: local stepping needs element and nodal steps");
-  return PassInput{
-      loop,
-      g,
-      u,
-      w,
-      element_viscosity,
-      p.element_dt,
-      p.nodal_dt,
-      {p.gas.gamma - 1.0, p.dt, p.tg_velocity == TgVelocity::relative, p.moving_mesh_correction, p.mesh_moves},
-      p.dt,
-      {}};
-}
-
-}  // namespace
-
-void assemble_residual(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& g, const FluidState& u,
-                       std::span<const Vec3> w, std::span<const double> element_viscosity, FluidState& r) {
-  r.fill_zero();
-  PassInput in = pass_input(p, loop, g, u, w, element_viscosity);
-  for (int v = 0; v < num_variables; ++v) in.out[std::size_t(v)] = r.var[std::size_t(v)].data();
-  run_pass(in, loop, false);
-}
-
-void assemble_residual_split(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& g,
-                             const FluidState& u, std::span<const Vec3> w, std::span<const double> element_viscosity,
-                             FluidState& first, FluidState& second) {
-  first.fill_zero();
-  second.fill_zero();
-  PassInput in = pass_input(p, loop, g, u, w, element_viscosity);
-  for (int v = 0; v < num_variables; ++v) {
-    in.out[std::size_t(v)] = first.var[std::size_t(v)].data();
-    in.out_second[std::size_t(v)] = second.var[std::size_t(v)].data();
-  }
-  run_pass(in, loop, true);
 }
 
 Vec3 face_area_vector(std::span<const Vec3> x, const BoundaryFace& f) {

@@ -54,12 +54,6 @@ SimdPath parse_simd_path(std::string_view name, std::string_view origin);
 void assemble_residual(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& geometry,
                        const FluidState& u, std::span<const Vec3> w, std::span<const double> element_viscosity,
                        FluidState& r);
-/// The same residual in two parts (their sum is r up to rounding): `first` the first-order
-/// rows (flux, ALE mesh term, artificial diffusion), `second` the Taylor–Galerkin rows (C1,
-/// C2), for the two-step scheme that weights them apart.
-void assemble_residual_split(const ResidualParameters& p, const ElementLoop& loop, const TetGeometry& geometry,
-                             const FluidState& u, std::span<const Vec3> w, std::span<const double> element_viscosity,
-                             FluidState& first, FluidState& second);
 
 /// A face of a natural (outflow) boundary: its nodes, the element that owns it and the
 /// element's fourth node (to orient the normal outward).
