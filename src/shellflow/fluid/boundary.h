@@ -177,8 +177,10 @@ class BoundarySet {
   /// q with the wall constraints of wall node s imposed (pressure kept).
   Conservative wall_projection(const IdealGas& gas, double t, std::span<const Vec3> x, std::size_t s,
                                Conservative q) const;
-  /// Whether a slip wall takes its velocity from a closure (then its passes run serially).
-  bool wall_closures() const;
+  /// f(slot, node) for every slip-wall/symmetry node, on the pool's threads unless a slip wall
+  /// takes its velocity from a closure (then serially).
+  template <class F>
+  void for_each_wall_node(const F& f) const;
   std::vector<BoundaryCondition> conditions_;
   std::vector<Face> faces_;
   std::unordered_map<std::array<Index, 3>, std::size_t, FaceKeyHash> face_index_;

@@ -182,29 +182,30 @@ Conservative BoundarySet::wall_projection(const IdealGas& gas, double t, std::sp
   return q;
 }
 
-bool BoundarySet::wall_closures() const {
-  // Closures may not be safe to call from several threads: passes that call them run serially.
+template <class F>
+void BoundarySet::for_each_wall_node(const F& f) const {
+  // Closures may not be safe to call from several threads: with one, the pass runs serially.
+  bool closures = false;
   for (std::size_t c = 0; c < conditions_.size(); ++c) {
     const auto& bc = conditions_[c];
-    if (bc.kind == BoundaryKind::slip_wall && bc.wall_velocity && set_velocity_[c].empty()) return true;
+    closures = closures || (bc.kind == BoundaryKind::slip_wall && bc.wall_velocity && set_velocity_[c].empty());
   }
-  return false;
+  const auto nw = Index(wall_nodes_.size());
+  parallel::for_range(
+      nw, parallel::grain_if(!closures && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, nw),
+      [&](Index begin, Index end) {
+        for (Index s = begin; s < end; ++s) f(std::size_t(s), wall_nodes_[std::size_t(s)]);
+      });
 }
 
 void BoundarySet::impose_wall_increments(const IdealGas& gas, double t, std::span<const Vec3> x,
                                          const FluidState& u_old, FluidState& increment) const {
-  const auto nw = Index(wall_nodes_.size());
-  parallel::for_range(
-      nw, parallel::grain_if(!wall_closures() && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, nw),
-      [&](Index begin, Index end) {
-        for (Index s = begin; s < end; ++s) {
-          const Index a = wall_nodes_[std::size_t(s)];
-          const Conservative old = u_old.get(a), d = increment.get(a);
-          const Conservative q = wall_projection(gas, t, x, std::size_t(s),
-                                                 {old.rho + d.rho, old.momentum + d.momentum, old.energy + d.energy});
-          increment.set(a, {d.rho, q.momentum - old.momentum, q.energy - old.energy});  // rho is free
-        }
-      });
+  for_each_wall_node([&](std::size_t s, Index a) {
+    const Conservative old = u_old.get(a), d = increment.get(a);
+    const Conservative q =
+        wall_projection(gas, t, x, s, {old.rho + d.rho, old.momentum + d.momentum, old.energy + d.energy});
+    increment.set(a, {d.rho, q.momentum - old.momentum, q.energy - old.energy});  // rho is free
+  });
 }
 
 void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, std::span<const Vec3> w, FluidState& u,
@@ -250,15 +251,7 @@ void BoundarySet::apply(const IdealGas& gas, double t, std::span<const Vec3> x, 
     u.set(a, q);
   }
 
-  const auto nw = Index(wall_nodes_.size());
-  parallel::for_range(
-      nw, parallel::grain_if(!wall_closures() && std::size_t(nw) > boundary_parallel_threshold, kBoundaryGrain, nw),
-      [&](Index begin, Index end) {
-        for (Index s = begin; s < end; ++s) {
-          const Index a = wall_nodes_[std::size_t(s)];
-          u.set(a, wall_projection(gas, t, x, std::size_t(s), u.get(a)));
-        }
-      });
+  for_each_wall_node([&](std::size_t s, Index a) { u.set(a, wall_projection(gas, t, x, s, u.get(a))); });
 }
 
 }  // namespace shellflow::fluid
