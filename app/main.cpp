@@ -120,10 +120,13 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber & finite);
   auto* mesh = cli.add_subcommand("mesh",
                                   "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
-                                  "<mesh>.vtu, print sizes and quality, plot the meshes");
+                                  "<mesh>.vtu, print sizes and quality (and, for a coupled case with a flow, the wet "
+                                  "wall's cells per lambda_x/M, docs/fluid.md), plot the meshes");
   add_case(mesh);
   add_output(mesh);
-  mesh->add_flag("--json", json, "Print one JSON object: per mesh nodes, elements, element_type, min_quality");
+  mesh->add_flag("--json", json,
+                 "Print one JSON object: per mesh nodes, elements, element_type, min_quality; for a coupled case "
+                 "with a flow, \"wet_wall\": the wet wall's cells per lambda_x/M of the shell's first two modes");
   auto* check = cli.add_subcommand("check",
                                    "Validate a case file (keys, types, ranges, files, physical groups) without "
                                    "running it");

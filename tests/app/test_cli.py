@@ -163,6 +163,23 @@ class MeshAndRunCommands(unittest.TestCase):
             self.assertLessEqual(m["elements"], 1.15 * e_hi, key)
             self.assertGreater(m["min_quality"], 0.0, key)
         self.assertEqual((report["shell"]["nodes"], report["shell"]["elements"]), (244, 40))
+        # The wet wall's resolution: 8.8 mm cells in the stream (the paper's), and the
+        # streamwise wavelengths 2 pi / k_rms of the clamped-clamped beam's first two modes,
+        # k_rms^2 = int phi'^2 / int phi^2, integrated here from the beam's mode shapes.
+        wet = report["wet_wall"]
+        self.assertAlmostEqual(wet["mach"], 2.3)
+        self.assertAlmostEqual(wet["cell_size"], 0.0088, delta=0.03 * 0.0088)  # fluid_slab.geo h_panel
+        self.assertEqual([m["mode"] for m in wet["modes"]], [1, 2])
+        for m, (beta_l, sigma) in zip(wet["modes"], ((4.730040745, 0.982502215), (7.853204624, 1.000777312))):
+            n, value, slope = 20000, 0.0, 0.0
+            for i in range(n):
+                x = (i + 0.5) / n * beta_l
+                value += (math.cosh(x) - math.cos(x) - sigma * (math.sinh(x) - math.sin(x))) ** 2
+                slope += (math.sinh(x) + math.sin(x) - sigma * (math.cosh(x) - math.cos(x))) ** 2
+            wavelength = 2 * math.pi * 0.5 / beta_l * math.sqrt(value / slope)
+            self.assertAlmostEqual(m["wavelength"] / wavelength, 1.0, delta=2e-3)
+            self.assertAlmostEqual(m["front_wavelength"], m["wavelength"] / 2.3)
+            self.assertAlmostEqual(m["cells"], m["front_wavelength"] / wet["cell_size"])
 
     def test_2_mesh_files_open_in_meshio(self):
         import meshio
