@@ -79,6 +79,10 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
                                         *text));
     c.substeps = n;
   }
+  if (c.scheme == CouplingSection::Scheme::monolithic && node.has("predictor"))
+    node.fail("predictor",
+              "the monolithic scheme computes the loads inside the shell's Newton iteration and predicts none: "
+              "remove 'predictor' (or use scheme: staggered)");
   c.predictor = node.choice("predictor", {"none", "linear"}, "linear") == "none" ? CouplingSection::Predictor::none
                                                                                  : CouplingSection::Predictor::linear;
   c.iterations = node.optional<int>("iterations", 1, Range::in_range(1, 1000));
@@ -165,6 +169,10 @@ void check_coupled_case(const Case& c) {
       throw_at(c.fluid->mesh_motion->where,
                "in a coupled run the shell moves the fluid mesh; remove "
                "'fluid.mesh_motion'");
+    if (c.fluid->analysis->riemann || c.fluid->analysis->initial)
+      throw_at(c.fluid->analysis->where,
+               fmt::format("a coupled run starts its flow from the free stream; '{}' is for flow-only runs: remove it",
+                           c.fluid->analysis->riemann ? "riemann" : "initial"));
     for (const FluidBoundary& b : c.fluid->boundaries)
       if (b.group == k.fluid_group && b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity)
         throw_at(b.where, fmt::format("the wet wall '{}' moves with the shell (u = the shell's velocity, paper eq. "

@@ -80,6 +80,10 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
   if (auto gas = node.optional_child("gas")) {
     fluid.gas.gamma = gas->optional<double>("gamma", 1.4, Range::greater_than(1));
     fluid.gas.gas_constant = gas->optional<double>("gas_constant", 287.05, Range::positive(), "J/(kg K)");
+    if (fluid.model == FluidModelType::piston_theory && gas->has("viscosity"))
+      gas->fail("viscosity",
+                "piston theory is inviscid and takes no shear; remove it (or use model: euler with a "
+                "no_slip_wall for a viscous flow)");
     if (auto v = gas->optional_child("viscosity")) {
       Viscosity& mu = fluid.gas.viscosity;
       const std::string law = v->choice("law", {"none", "constant", "sutherland", "power"});
