@@ -14,6 +14,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -158,8 +159,20 @@ int main(int argc, char** argv) {
                    "Parameter values of the sweep (the boundary is then "
                    "bisected)")
       ->check(CLI::Range(2, 100000));
-  flutter->add_option("--modes", flutter_options.modes, "In-vacuo modes of the reduced basis")
-      ->check(CLI::Range(1, 400));
+  flutter
+      ->add_option("--modes", flutter_options.modes,
+                   "In-vacuo modes of the reduced basis, 2 to 400 (flutter is the coalescence of two modes)")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            int n = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+            if (ec != std::errc() || end != text.data() + text.size() || n < 2 || n > 400)
+              return "expected a whole number of modes from 2 to 400 (flutter is the coalescence of two modes; "
+                     "the default is 24), got '" +
+                     text + "'";
+            return {};
+          },
+          "INT in [2, 400]"));
   flutter->add_flag("--direct", flutter_options.direct,
                     "Solve the full system (every free dof) instead of the modal basis: dense, O(n^3) per "
                     "value; for checking the basis on small meshes");

@@ -33,6 +33,7 @@ PRESCRIBED = "shell/cantilever_prescribed_rotation.yaml"
 SOD = "fluid/sod.yaml"
 MOTION = "motion/panel_single_mode.yaml"
 PISTON = "panel_flutter/clamped_clamped_piston.yaml"
+PANEL = "panel_flutter/clamped_clamped.yaml"
 MODAL = "shell/strip_modal.yaml"
 
 
@@ -316,6 +317,27 @@ CATALOGUE = [
           "      left: { density: 1.0, pressure: 1.0 }\n      right: { density: 0.125, pressure: 0.1 }",
           '    initial: { density: "1e200*1e200", pressure: 1 }'),
           expect=["{case}:{line}:", "fluid.analysis.initial.density: is inf"], fix="must stay finite", run_output=None),
+    # ---- issue 39: keys a run would read and then ignore ----
+    Entry("coupled_run_with_an_initial_state", base=PANEL, command="run",
+          sets=["fluid.analysis.initial={density: 1, velocity: [0, 0, 0], pressure: 1e5}"],
+          expect=["{case}:", "fluid.analysis: a coupled run starts its flow from the free stream; 'initial'"],
+          fix="remove it"),
+    Entry("coupled_run_with_a_riemann_problem", base=PANEL,
+          sets=["fluid.analysis.riemann={position: 0.5, left: {density: 1, pressure: 1e5}, "
+                "right: {density: 1, pressure: 1e5}}"],
+          expect=["{case}:", "fluid.analysis: a coupled run starts its flow from the free stream; 'riemann'"],
+          fix="remove it"),
+    Entry("monolithic_scheme_with_a_predictor", base=PISTON,
+          sets=["coupling.scheme=monolithic", "coupling.predictor=linear"],
+          expect=["{case}:", "coupling.predictor: the monolithic scheme", "predicts none"], fix="remove 'predictor'"),
+    Entry("set_value_with_two_documents", base=PISTON, sets=["time.end=0.01\n---\n5"],
+          expect=["{case}:", "--set time.end=0.01\\x0a---\\x0a5: the value holds more than one YAML document"],
+          fix="no '---' separators"),
+    Entry("set_value_with_a_terminal_escape", base=PISTON, sets=["time.end=[\x1b[31m"],
+          expect=["{case}:", "--set time.end=[\\x1b[31m: the value is not valid YAML"], fix="not valid YAML"),
+    Entry("piston_theory_with_a_viscosity", base=PISTON,
+          sets=["fluid.gas.viscosity={law: constant, mu_ref: 1e-5}"],
+          expect=["{case}:", "fluid.gas.viscosity: piston theory is inviscid"], fix="remove it"),
 ]
 
 

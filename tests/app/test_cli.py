@@ -892,6 +892,15 @@ class InputHardening(unittest.TestCase):
             f.write(text)
         return path
 
+    def test_flutter_refuses_a_single_mode(self):
+        # One mode cannot coalesce with another: the sweep would find no boundary and say
+        # "give a wider --range" instead.
+        r = shellflow("flutter", os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml"), "--modes", "1", "-o", os.path.join(self.dir, "flutter"), "--no-plot")
+        self.assertNotEqual(r.returncode, 0)
+        self.assertIn("--modes: expected a whole number of modes from 2 to 400", r.stderr)
+        self.assertIn("got '1'", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.dir, "flutter", "flutter.json")))
+
     def case(self, mesh_line, name="case.yaml"):
         return self.write(name, "name: strip\nmeshes:\n  shell: { %s }\nprobes:\n"
                                 "  - { name: w, field: shell.displacement, group: panel }\n" % mesh_line)

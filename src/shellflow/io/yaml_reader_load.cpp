@@ -114,15 +114,22 @@ void apply_overrides(YAML::Node root, std::span<const KeyOverride> overrides, co
       if (dot == std::string::npos) break;
       start = dot + 1;
     }
+    const std::string path = printable(o.path);
     for (const auto& k : keys)
       if (k.empty())
         throw InputError(
-            fmt::format("{}: --set {}: empty key in the path; write keys like fluid.free_stream.mach", file, o.path));
+            fmt::format("{}: --set {}: empty key in the path; write keys like fluid.free_stream.mach", file, path));
     YAML::Node value;
     try {
+      if (count_documents(o.value).first > 1)
+        throw InputError(
+            fmt::format("{}: --set {}={}: the value holds more than one YAML document; give one value "
+                        "(no '---' separators)",
+                        file, path, printable(o.value)));
       value = YAML::Load(o.value);
     } catch (const YAML::Exception& e) {
-      throw InputError(fmt::format("{}: --set {}={}: the value is not valid YAML ({})", file, o.path, o.value, e.msg));
+      throw InputError(
+          fmt::format("{}: --set {}={}: the value is not valid YAML ({})", file, path, printable(o.value), e.msg));
     }
     YAML::Node node = root;
     std::string walked;
@@ -133,7 +140,8 @@ void apply_overrides(YAML::Node root, std::span<const KeyOverride> overrides, co
         node[keys[i]] = YAML::Node(YAML::NodeType::Map);
         next = node[keys[i]];
       } else if (!next.IsMap()) {
-        throw InputError(fmt::format("{}: --set {}: '{}' is not a map of keys in the case file", file, o.path, walked));
+        throw InputError(
+            fmt::format("{}: --set {}: '{}' is not a map of keys in the case file", file, path, printable(walked)));
       }
       node.reset(next);
     }
