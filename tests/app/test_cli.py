@@ -921,6 +921,16 @@ class InputHardening(unittest.TestCase):
             self.assertIn(needle, error[0])
         return error[0]
 
+    def test_a_huge_geo_timeout_means_no_limit(self):
+        # 1e18 s overflowed the watchdog's clock, which then fired at once; it is capped at 1e6 s.
+        self.write("strip.geo", open(self.STRIP_GEO).read())
+        case = self.case("geo: strip.geo, order: 3")
+        env = {**os.environ, "SHELLFLOW_GEO_TIMEOUT": "1e18"}
+        r = subprocess.run([EXE, "mesh", case, "-o", os.path.join(self.dir, "out"), "--no-plot"], capture_output=True,
+                           text=True, timeout=120, cwd=self.dir, env=env)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertTrue(os.path.exists(os.path.join(self.dir, "out", "shell.msh")))
+
     def test_numbers_of_the_command_line_are_finite(self):
         # nan passes CLI::PositiveNumber (nan <= 0 is false): --stop-at-wall nan never stopped.
         piston = os.path.join(ROOT, "cases", "panel_flutter", "clamped_clamped_piston.yaml")

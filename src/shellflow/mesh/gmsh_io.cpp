@@ -70,7 +70,11 @@ void with_gmsh(const std::filesystem::path& file, std::string_view action, F&& f
   }
 }
 
-/// The time limit on Gmsh reading a .geo: SHELLFLOW_GEO_TIMEOUT seconds, default 120.
+/// The time limit on Gmsh reading a .geo: SHELLFLOW_GEO_TIMEOUT seconds, default 120, at most
+/// kLongestGeoTimeout (11.6 days: no limit in practice; a larger value, say 1e18, would
+/// overflow the watchdog's clock and fire at once).
+constexpr double kLongestGeoTimeout = 1e6;
+
 double geo_read_timeout() {
   const char* text = std::getenv("SHELLFLOW_GEO_TIMEOUT");
   if (!text || !*text) return 120.0;
@@ -79,7 +83,7 @@ double geo_read_timeout() {
   if (*end != '\0' || !std::isfinite(seconds) || !(seconds > 0.0))
     throw Error(fmt::format("SHELLFLOW_GEO_TIMEOUT='{}': expected the seconds Gmsh may take to read a .geo (> 0)",
                             printable(text)));
-  return seconds;
+  return std::min(seconds, kLongestGeoTimeout);
 }
 
 /// A watchdog on Gmsh reading a .geo: a `Sleep 3600;` or a loop of 1e12 turns would hang
