@@ -71,6 +71,7 @@ TEST(CaseNames, EveryEnumeratorRoundTripsThroughToStringAndTheParser) {
   expect_round_trip(detail::kProbeLocations);
   expect_round_trip(detail::kProbeReductions);
   expect_round_trip(detail::kStudyParameters);
+  expect_round_trip(detail::kAccelerationTypes);
 }
 
 TEST(CaseNames, ToStringAsCaseFilesWriteThem) {

@@ -7,6 +7,8 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <mutex>
+#include <set>
 #include <stdexcept>
 #include <thread>
 #include <vector>
@@ -144,17 +146,30 @@ TEST(ParallelFor, AnExceptionInAChunkReachesTheCallerAfterTheLoop) {
 }
 
 TEST(ParallelFor, ThreadSlotsAreDistinctWithinALoop) {
+  // Within one loop a slot belongs to one thread: per-thread scratch indexed by the slot is
+  // never shared. Each slot's threads are recorded; every slot used must have seen exactly one
+  // thread, and as many slots as threads are used.
   const Threads scope(3);
-  std::vector<std::atomic<int>> seen(kMaxThreads);
+  std::mutex mutex;
+  std::vector<std::set<std::thread::id>> threads_of_slot(kMaxThreads);
+  std::set<std::thread::id> threads;
+  std::atomic<int> total = 0;
   for_each_chunk(3000, [&](Index) {
     const int slot = detail::thread_slot();
     ASSERT_GE(slot, 0);
     ASSERT_LT(slot, 3);
-    seen[std::size_t(slot)].fetch_add(1);
+    const std::lock_guard lock(mutex);
+    threads_of_slot[std::size_t(slot)].insert(std::this_thread::get_id());
+    threads.insert(std::this_thread::get_id());
+    total.fetch_add(1);
   });
-  int total = 0;
-  for (const auto& s : seen) total += s.load();
-  EXPECT_EQ(total, 3000);
+  EXPECT_EQ(total.load(), 3000);
+  std::size_t slots_used = 0;
+  for (const auto& owners : threads_of_slot) {
+    EXPECT_LE(owners.size(), 1u) << "a slot was shared by two threads";
+    slots_used += owners.empty() ? 0 : 1;
+  }
+  EXPECT_EQ(slots_used, threads.size());
   // Which thread takes how many chunks is up to the scheduler (under a sanitizer the workers
   // may take them all before the caller claims one): not asserted.
 }
