@@ -2,10 +2,42 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <limits>
+#include <string>
+
 #include "shellflow/core/error.h"
 #include "shellflow/mesh/spatial_index.h"
 
 namespace shellflow::setup {
+namespace {
+
+/// A symmetry support holds each node in the plane through it with normal n, so every edge
+/// of its group must lie in such a plane (two parallel edges, as the strip's two sides, are
+/// fine): refuses an edge element whose nodes spread along n (a mistyped normal would
+/// otherwise pin the edge's in-plane motion without a word).
+void check_symmetry_plane(const mesh::Mesh& mesh, const std::string& group, const Vec3& normal) {
+  const Vec3 n = normal.normalized();
+  const mesh::ElementBlock& edges = mesh.group(group).elements;
+  for (Index e = 0; e < edges.size(); ++e) {
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    Eigen::AlignedBox<double, 3> box;
+    for (const Index k : edges.element(e)) {
+      const Vec3& x = mesh.nodes[static_cast<std::size_t>(k)];
+      lo = std::min(lo, x.dot(n));
+      hi = std::max(hi, x.dot(n));
+      box.extend(x);
+    }
+    if (hi - lo > 1e-6 * box.diagonal().norm())
+      throw InputError(fmt::format(
+          "symmetry support on '{}': its edge near ({:.6g}, {:.6g}, {:.6g}) does not lie in a plane with normal "
+          "({:.6g}, {:.6g}, {:.6g}) (its nodes spread over {:.6g} m along it); give the normal of the symmetry "
+          "plane that contains the edge",
+          group, box.center().x(), box.center().y(), box.center().z(), n.x(), n.y(), n.z(), hi - lo));
+  }
+}
+
+}  // namespace
 
 shell::ShellModel build_shell_model(const io::ShellSection& s, const mesh::Mesh& mesh) {
   shell::ShellSection section;
@@ -26,6 +58,7 @@ shell::ShellModel build_shell_model(const io::ShellSection& s, const mesh::Mesh&
           model.add_hard_simple_support(support.group);
           break;
         case io::SupportType::symmetry:
+          check_symmetry_plane(mesh, support.group, support.normal);
           model.add_support(shell::DirectionalSupport::symmetry_plane(support.group, support.normal));
           break;
         case io::SupportType::sliding:
