@@ -88,7 +88,6 @@ TEST(ViscousCoupling, GasAtRestIsDraggedByTheSlidingStripAsStokesFirstProblemPre
                   fmt::format(R"(    - {{ group: inlet, type: no_slip_wall, velocity: ["{}", 0, 0] }})", series));
   text = replaced(text, R"(    - { group: outlet, type: no_slip_wall, velocity: ["5*y/0.01", 0, 0] })",
                   fmt::format(R"(    - {{ group: outlet, type: no_slip_wall, velocity: ["{}", 0, 0] }})", series));
-  text = replaced(text, R"(    initial: { density: 1.16, velocity: ["5*y/0.01", 0, 0], pressure: 1.0e5 })", "");
   const io::Case c = io::read_case_string(text, couette_file);
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
