@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "shellflow/core/error.h"
 #include "shellflow/core/output_file.h"
 #include "shellflow/coupling/wall_resolution.h"
 #include "shellflow/io/case_meshes.h"
@@ -22,9 +23,16 @@ std::optional<coupling::WallResolution> wall_resolution(const io::Case& c, const
   if (!c.coupling || c.coupling->fluid_group.empty() || !c.shell || !c.fluid || !c.fluid->analysis || !meshes.fluid ||
       !meshes.shell)
     return std::nullopt;
-  const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
-  return coupling::wall_resolution(model, *meshes.fluid, c.coupling->fluid_group, c.fluid->free_stream.direction,
-                                   c.fluid->free_stream.mach);
+  // The meshes are the command's product: a shell that cannot be analysed (too few supports,
+  // a modal iteration that fails) only costs the report, with the reason.
+  try {
+    const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
+    return coupling::wall_resolution(model, *meshes.fluid, c.coupling->fluid_group, c.fluid->free_stream.direction,
+                                     c.fluid->free_stream.mach);
+  } catch (const Error& e) {
+    spdlog::warn("no cells-per-wavelength report of the wet wall: {}", e.what());
+    return std::nullopt;
+  }
 }
 
 void print_resolution(const coupling::WallResolution& r, const std::string& group) {
