@@ -1,6 +1,9 @@
 // core/output_file.h: no write through a symbolic link, one process per output folder.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <filesystem>
 #include <fstream>
@@ -120,6 +123,48 @@ TEST_F(OutputFile, LockFileThatIsALinkIsRefused) {
   fs::create_symlink(victim_, dir_ / "out" / OutputLock::kFileName);
   EXPECT_THROW(OutputLock lock(dir_ / "out"), Error);
   EXPECT_EQ(slurp(victim_), "keep me");
+}
+
+TEST_F(OutputFile, HardLinkedLockAndCsvAreRefusedAndTheirTargetKept) {
+  fs::create_hard_link(victim_, dir_ / "out" / OutputLock::kFileName);
+  try {
+    OutputLock lock(dir_ / "out");
+    FAIL() << "locked through a hard link";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("is a hard link (2 names"), std::string::npos) << e.what();
+  }
+  fs::create_hard_link(victim_, dir_ / "out" / "probes.csv");
+  for (const auto mode : {AppendFile::Mode::truncate, AppendFile::Mode::append})
+    EXPECT_THROW(AppendFile(dir_ / "out" / "probes.csv", mode), Error);
+  EXPECT_EQ(slurp(victim_), "keep me");
+}
+
+TEST_F(OutputFile, ARowThatDoesNotFitIsCutBackToTheLastWholeRow) {
+  const fs::path out = dir_ / "out" / "probes.csv";
+  AppendFile f(out, AppendFile::Mode::truncate);
+  f.write("time,p\n");
+  f.write("0,1\n");
+  // A file size limit 3 bytes past the end makes the next write(2) partial, then EFBIG:
+  // the way a disk that fills up mid-row behaves.
+  rlimit before{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &before), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = before;
+  small.rlim_cur = 11 + 3;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  bool threw = false;
+  try {
+    f.write("0.5,2.25\n");
+  } catch (const Error& e) {
+    threw = true;
+    EXPECT_NE(std::string(e.what()).find("disk full?"), std::string::npos) << e.what();
+  }
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &before), 0);
+  std::signal(SIGXFSZ, old_handler);
+  EXPECT_TRUE(threw);
+  EXPECT_EQ(slurp(out), "time,p\n0,1\n");
+  f.write("1,3\n");  // the next row follows the last whole one
+  EXPECT_EQ(slurp(out), "time,p\n0,1\n1,3\n");
 }
 
 }  // namespace

@@ -38,6 +38,22 @@ bool write_all(int fd, std::string_view bytes) {
   throw Error(fmt::format("{}: cannot open it for writing ({})", printable(path.string()), std::strerror(err)));
 }
 
+/// Refuses an open descriptor that is not a regular file of its own: another name for the
+/// same inode (a hard link) would have us cut or overwrite a file outside the output folder.
+void check_own_regular_file(int fd, const fs::path& path) {
+  struct stat st {};
+  std::string why;
+  if (::fstat(fd, &st) != 0)
+    why = fmt::format("cannot read its status ({})", std::strerror(errno));
+  else if (!S_ISREG(st.st_mode))
+    why = "not a regular file";
+  else if (st.st_nlink > 1)
+    why = fmt::format("is a hard link ({} names for one file); shellflow does not write through links", st.st_nlink);
+  if (why.empty()) return;
+  ::close(fd);
+  throw Error(fmt::format("{}: {}; remove it, or choose another folder with -o", printable(path.string()), why));
+}
+
 void create_parent(const fs::path& path) {
   if (!path.has_parent_path()) return;
   std::error_code ec;
@@ -122,16 +138,17 @@ AppendFile::AppendFile(const fs::path& path, Mode mode) : path_(path) {
     return;
   }
   if (mode == Mode::truncate) create_parent(path);
-  const int flags = O_RDWR | O_NOFOLLOW | O_CLOEXEC | (mode == Mode::truncate ? O_CREAT | O_TRUNC : O_APPEND);
-  fd_ = ::open(path.c_str(), flags, 0644);
-  if (fd_ < 0) throw_open_error(path, errno);
-  struct stat st {};
-  if (::fstat(fd_, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd_);
-    fd_ = -1;
-    throw Error(
-        fmt::format("{}: not a regular file; remove it, or choose another folder with -o", printable(path.string())));
+  // Truncated only once it is known to be a file of its own (not through a hard link).
+  const int flags = O_RDWR | O_APPEND | O_NOFOLLOW | O_CLOEXEC | (mode == Mode::truncate ? O_CREAT : 0);
+  const int fd = ::open(path.c_str(), flags, 0644);
+  if (fd < 0) throw_open_error(path, errno);
+  check_own_regular_file(fd, path);
+  if (mode == Mode::truncate && ::ftruncate(fd, 0) != 0) {
+    const int err = errno;
+    ::close(fd);
+    throw Error(fmt::format("{}: cannot empty it ({})", printable(path.string()), std::strerror(err)));
   }
+  fd_ = fd;
 }
 
 AppendFile::AppendFile(AppendFile&& o) noexcept
@@ -154,8 +171,14 @@ AppendFile::~AppendFile() {
 void AppendFile::write(std::string_view bytes) {
   if (discard_) return;
   if (fd_ < 0) throw Error(fmt::format("{}: not open", printable(path_.string())));
-  if (!write_all(fd_, bytes))
-    throw Error(fmt::format("cannot write {} (disk full?): {}", printable(path_.string()), std::strerror(errno)));
+  struct stat st {};
+  const bool sized = ::fstat(fd_, &st) == 0;
+  if (write_all(fd_, bytes)) return;
+  const int err = errno;
+  // A part of a row (a full disk, a file size limit) is cut back: the file ends with a whole row.
+  if (sized && ::ftruncate(fd_, st.st_size) != 0) {
+  }
+  throw Error(fmt::format("cannot write {} (disk full?): {}", printable(path_.string()), std::strerror(err)));
 }
 
 std::uint64_t AppendFile::size() const {
@@ -204,8 +227,10 @@ fs::path private_temporary(const fs::path& dir, const std::string& stem, const s
 
 OutputLock::OutputLock(const fs::path& dir) {
   const fs::path file = dir / kFileName;
-  fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
-  if (fd_ < 0) throw_open_error(file, errno);
+  const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_NOFOLLOW | O_CLOEXEC, 0644);
+  if (fd < 0) throw_open_error(file, errno);
+  check_own_regular_file(fd, file);  // the pid written below would truncate a hard link's file
+  fd_ = fd;
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
     if (err == ENOLCK || err == EOPNOTSUPP || err == ENOSYS) {

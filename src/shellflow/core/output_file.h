@@ -62,7 +62,8 @@ class AppendFile {
   AppendFile& operator=(const AppendFile&) = delete;
   ~AppendFile();
   bool is_open() const { return fd_ >= 0 || discard_; }
-  /// Writes all of `bytes` (one write(2) call for a short row: a crash leaves whole rows).
+  /// Writes all of `bytes` (one write(2) call for a short row: a crash leaves whole rows);
+  /// when it cannot (a full disk), cuts the file back to its size before and throws Error.
   void write(std::string_view bytes);
   /// Its size in bytes, up to `n` bytes from `offset`, and cutting it back to `size` bytes
   /// (a restart continuing the file).
