@@ -151,3 +151,29 @@ TEST(GmshIo, MissingGroupErrorListsTheAvailableOnes) {
     EXPECT_NE(msg.find("panel_strip.geo"), std::string::npos);
   }
 }
+
+// A size factor is checked against the machine before the mesh is made (issue 39): the count
+// at the factor asked, extrapolated from meshes at factors 1 and 0.5, is that of the mesh made.
+TEST(GmshIo, TheElementCountOfASizeFactorIsEstimatedBeforeMeshing) {
+  const fs::path geo = data_dir / "unit_cube.geo";
+  const MeshSizeEstimate none = estimate_mesh_size(geo, with_order(1, kSizeFactorProbedBelow));
+  EXPECT_EQ(none.elements, 0.0);  // no probe at 0.25 and above
+  const MeshSizeEstimate e = estimate_mesh_size(geo, with_order(1, 0.125));
+  EXPECT_GT(e.exponent, 2.4);
+  EXPECT_LE(e.exponent, 3.0);
+  EXPECT_GT(e.limit, 1e5);
+  const double made = double(generate_mesh(geo, with_order(1, 0.125), "cube").num_cells());
+  EXPECT_NEAR(e.elements / made, 1.0, 0.35) << e.elements << " estimated, " << made << " made";
+  // 1e-4 would be about 1e14 tetrahedra: refused with the factor, the estimate and the fix.
+  MeshingOptions tiny = with_order(1, 1e-4);
+  tiny.size_factor_key = "meshes.fluid.size_factor";
+  try {
+    check_mesh_size_of(geo, tiny);
+    FAIL() << "a size factor of 1e-4 was not refused";
+  } catch (const InputError& err) {
+    const std::string what = err.what();
+    EXPECT_NE(what.find("unit_cube.geo: meshes.fluid.size_factor 0.0001 would make about "), std::string::npos) << what;
+    EXPECT_NE(what.find("raise it to "), std::string::npos) << what;
+  }
+  EXPECT_NO_THROW(check_mesh_size_of(geo, with_order(1, 0.125)));
+}

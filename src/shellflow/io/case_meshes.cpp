@@ -189,14 +189,20 @@ void write_cache(const fs::path& cache, const fs::path& msh, std::uint64_t input
   spdlog::warn("{}: cannot write the mesh cache; the next run meshes again", cache.string());
 }
 
+mesh::MeshingOptions meshing_options(const MeshSpec& spec) {
+  mesh::MeshingOptions options;
+  options.order = spec.order;
+  options.size_factor = spec.size_factor;
+  options.dim = expected_dim(spec.key);
+  options.size_factor_key = "meshes." + spec.key + ".size_factor";
+  return options;
+}
+
 mesh::Mesh load_one(const MeshSpec& spec, const std::optional<fs::path>& msh_dir,
                     const std::optional<fs::path>& cache_dir) {
   mesh::Mesh m;
   if (spec.format == MeshFormat::geo) {
-    mesh::MeshingOptions options;
-    options.order = spec.order;
-    options.size_factor = spec.size_factor;
-    options.dim = expected_dim(spec.key);
+    mesh::MeshingOptions options = meshing_options(spec);
     if (msh_dir) options.msh_output = *msh_dir / (spec.key + ".msh");
     const auto dir = msh_dir ? msh_dir : cache_dir;
     std::optional<std::uint64_t> input;
@@ -284,6 +290,12 @@ CaseMeshes load_case_meshes(const Case& c, const std::optional<std::filesystem::
 }
 
 void check_case_groups(const Case& c) {
+  // A size factor that would make a mesh beyond the machine: refused here too, not by the run.
+  for (const MeshSpec* spec : {c.meshes.fluid ? &*c.meshes.fluid : nullptr, c.meshes.space ? &*c.meshes.space : nullptr,
+                               c.meshes.shell ? &*c.meshes.shell : nullptr})
+    if (spec && spec->format == MeshFormat::geo) {
+      mesh::check_mesh_size_of(spec->file, meshing_options(*spec));
+    }
   check_physical_groups(c, [&](std::string_view key) {
     const auto* spec = c.meshes.find(key);
     return spec ? mesh::physical_group_names(spec->file) : std::vector<std::string>{};

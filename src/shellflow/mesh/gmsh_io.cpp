@@ -2,6 +2,8 @@
 
 #include <gmsh.h>
 #include <omp.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
@@ -263,7 +265,95 @@ Mesh extract_model(const std::filesystem::path& source, std::string mesh_name) {
   return mesh;
 }
 
+/// The elements of dimension `dim` (-1: the model's) of the mesh Gmsh holds.
+std::size_t element_count(int dim) {
+  std::vector<int> types;
+  std::vector<std::vector<std::size_t>> tags, nodes;
+  gmsh::model::mesh::getElements(types, tags, nodes, dim >= 0 ? dim : gmsh::model::getDimension());
+  std::size_t n = 0;
+  for (const auto& t : tags) n += t.size();
+  return n;
+}
+
+/// The elements of `geometry` meshed at `factor` (the script read again: a structured .geo
+/// scales its cell counts by Mesh.MeshSizeFactor).
+std::size_t probe_count(const std::filesystem::path& geometry, const MeshingOptions& options, double factor) {
+  gmsh::clear();
+  gmsh::option::setNumber("Mesh.MeshSizeFactor", factor);
+  open_in_gmsh(geometry);
+  gmsh::option::setNumber("Mesh.MeshSizeFactor", factor);
+  gmsh::model::mesh::generate(options.dim > 0 ? options.dim : gmsh::model::getDimension());
+  const std::size_t n = element_count(options.dim);
+  gmsh::clear();
+  return n;
+}
+
+/// Bytes a run needs per fluid element, with a margin: measured 0.46 kB per tetrahedron for
+/// Gmsh's meshing and 0.75 kB for a coupled 3-D run (docs/mesh.md).
+constexpr double kBytesPerElement = 2048.0;
+
+double physical_memory_bytes() {
+  const long pages = sysconf(_SC_PHYS_PAGES), size = sysconf(_SC_PAGE_SIZE);
+  return pages > 0 && size > 0 ? double(pages) * double(size) : 0.0;
+}
+
+MeshSizeEstimate estimate_in_session(const std::filesystem::path& geometry, const MeshingOptions& options) {
+  MeshSizeEstimate e;
+  e.limit = physical_memory_bytes() / kBytesPerElement;
+  if (!(options.size_factor < kSizeFactorProbedBelow)) return e;
+  // Coarser than asked, at factors 1 and 0.5 (a 3-D mesh at 0.25 costs 8 times the one at
+  // 0.5): the count at the factor asked extrapolated with the exponent the two give. Factors 2
+  // and 1 were too coarse: on a small geometry the surface's share made the exponent 1.9 where
+  // the mesh grows as 2.9, and the estimate fell short of the mesh by 3.6 times.
+  std::size_t n1 = 0, n2 = 0;  // at factors 1 and 1/2
+  try {
+    n1 = probe_count(geometry, options, 1.0);
+    n2 = probe_count(geometry, options, 0.5);
+  } catch (const Error&) {
+    throw;  // the time limit on a .geo, a script refused
+  } catch (...) {
+    gmsh::clear();
+    return e;  // a geometry Gmsh cannot mesh coarse: the meshing at the factor asked says why, or works
+  }
+  if (n1 == 0 || n2 == 0) return e;
+  const int dim = std::max(1, gmsh::model::getDimension() > 0 ? gmsh::model::getDimension() : 3);
+  // 0: a structured script that keeps its cell counts; at most the dimension.
+  e.exponent = std::clamp(std::log2(double(n2) / double(n1)), 0.0, double(options.dim > 0 ? options.dim : dim));
+  e.at_factor_one = double(n1);
+  e.elements = double(n2) * std::pow(2.0 * options.size_factor, -e.exponent);
+  spdlog::info("{}: about {:.3g} elements at size factor {:.3g} ({} at 1, {} at 0.5; the machine holds about {:.2g})",
+               geometry.filename().string(), e.elements, options.size_factor, n1, n2, e.limit);
+  return e;
+}
+
+void check_mesh_size_in_session(const std::filesystem::path& geometry, const MeshingOptions& options) {
+  const MeshSizeEstimate e = estimate_in_session(geometry, options);
+  if (!(e.elements > e.limit) || !(e.limit > 0.0)) return;
+  throw_input_error(
+      "{}: {} {:.3g} would make about {:.2g} elements ({:.0f} at size factor 1, growing as factor^-{:.2g}); "
+      "this machine's memory holds about {:.2g}; raise it to {:.2g} or more",
+      geometry.string(), options.size_factor_key, options.size_factor, e.elements, e.at_factor_one, e.exponent, e.limit,
+      std::pow(e.limit / e.at_factor_one, -1.0 / e.exponent));
+}
+
 }  // namespace
+
+MeshSizeEstimate estimate_mesh_size(const std::filesystem::path& geometry, const MeshingOptions& options) {
+  require_file(geometry);
+  check_gmsh_input(geometry);
+  GmshSession session(false);
+  MeshSizeEstimate e;
+  with_gmsh(geometry, "mesh the geometry", [&] { e = estimate_in_session(geometry, options); });
+  return e;
+}
+
+void check_mesh_size_of(const std::filesystem::path& geometry, const MeshingOptions& options) {
+  if (!(options.size_factor < kSizeFactorProbedBelow)) return;
+  require_file(geometry);
+  check_gmsh_input(geometry);
+  GmshSession session(false);
+  with_gmsh(geometry, "mesh the geometry", [&] { check_mesh_size_in_session(geometry, options); });
+}
 
 Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options, std::string mesh_name) {
   require_file(geometry);
@@ -277,6 +367,7 @@ Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& 
   GmshSession session(options.verbose);
   Mesh mesh;
   with_gmsh(geometry, "mesh the geometry", [&] {
+    check_mesh_size_in_session(geometry, options);  // refused before a mesh beyond the machine is begun
     // Set before the script runs, so that a structured .geo can scale its cell counts by it,
     // and again after, so that the case's value wins over one the script sets.
     gmsh::option::setNumber("Mesh.MeshSizeFactor", options.size_factor);
