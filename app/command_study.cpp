@@ -224,6 +224,19 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
     make_plot("plot_study.py",
               {(outdir / "study.csv").string(), "--summary", (outdir / "study.json").string(), "-o", outdir.string()},
               options.json);
+  // Points that failed for reasons other than the physics were not recorded: the study is not
+  // done until they ran (the same command reruns them).
+  std::string rerun;
+  long reruns = 0;
+  for (const auto& p : result.points)
+    if (p.rerun && ++reruns <= 3)
+      rerun +=
+          fmt::format("{}{} = {:.8g} ({})", rerun.empty() ? "" : "; ", io::to_string(s.parameter), p.value, p.message);
+  if (reruns > 0)
+    throw Error(
+        fmt::format("study: {} point(s) failed for reasons other than the physics and were not recorded: {}{}; "
+                    "remove the cause and run the same command again to run them",
+                    reruns, rerun, reruns > 3 ? "; ..." : ""));
   // No growth rate anywhere is no result: the reason the runs gave, not a bracket to widen.
   const auto ok = std::count_if(result.points.begin(), result.points.end(), [](const Point& p) { return p.ok; });
   if (ok == 0 && !result.points.empty())

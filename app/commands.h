@@ -22,6 +22,7 @@ struct CommonOptions {
   const dist::Communicator* ranks = nullptr;        ///< started by mpirun with several ranks
 };
 
+using run::kSolverFailedExitCode;
 using run::kStoppedExitCode;
 using run::make_plot;
 using run::StopOptions;

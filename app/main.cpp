@@ -8,8 +8,9 @@
 //   shellflow partition cases/panel_flutter/clamped_clamped.yaml --parts N [-o OUTDIR]
 //
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
-// exit code is 1 (2 for a bad command line); a run stopped with a checkpoint (--stop-after,
-// --stop-at-wall, SIGINT/SIGTERM) exits with 75.
+// exit code is 1 (2 for a bad command line); a run the physics stopped (a SolverError: Newton
+// gave up, a negative density, an inverted element) exits with 4; a run stopped with a
+// checkpoint (--stop-after, --stop-at-wall, SIGINT/SIGTERM) exits with 75.
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
@@ -66,7 +67,10 @@ int main(int argc, char** argv) {
       "pass; default auto: the best the CPU has; sse2 is the reference, avx2 gives its bits, "
       "avx2-fma and avx512 round differently), SHELLFLOW_GEO_TIMEOUT=seconds (the most Gmsh may take to read a "
       ".geo; default 120). An output folder is used by one process at a time (.shellflow.lock) and no file is "
-      "written through a symbolic link there (docs/output.md).");
+      "written through a symbolic or hard link there (docs/output.md). Exit codes: 0 done; 1 an error "
+      "(one line 'shellflow: error: ...'); 2 a bad command line; 3 an internal error; 4 a run the physics "
+      "stopped (Newton gave up, a negative density, an inverted element); 75 stopped with a checkpoint "
+      "(--stop-after, --stop-at-wall, SIGINT, SIGTERM): continue with --restart.");
   cli.fallthrough();  // -v/-q also after the subcommand
   bool verbose = false, quiet = false;
   cli.add_flag("-v,--verbose", verbose, "Print debug messages (and Gmsh's progress)");
@@ -243,6 +247,9 @@ int main(int argc, char** argv) {
     if (*flutter) return app::flutter_command(options, flutter_options);
     if (*study) return app::study_command(options, study_options);
     if (*partition) return app::partition_command(options, partition_parts);
+  } catch (const SolverError& e) {
+    if (print_errors) std::fprintf(stderr, "shellflow: error: %s\n", e.what());
+    return app::kSolverFailedExitCode;
   } catch (const Error& e) {
     if (print_errors) std::fprintf(stderr, "shellflow: error: %s\n", e.what());
     return 1;

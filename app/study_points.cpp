@@ -4,8 +4,8 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <spawn.h>
 #include <spdlog/spdlog.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -105,6 +105,53 @@ std::optional<Point> read_point(const fs::path& dir, double value) {
         "coupling.response.window)";
   }
   return p;
+}
+
+/// Starts `exe argv` with `envp`, its output to `log` (appended to when `resume`): fork and
+/// exec (posix_spawn cannot set a parent-death signal), the child getting SIGTERM when the
+/// study dies, even by SIGKILL: a point run stops at its next step with a checkpoint rather
+/// than run on, orphaned, in a folder the next study would share with it. Between fork and
+/// exec the child calls only async-signal-safe functions; an exec failure comes back through
+/// a close-on-exec pipe.
+pid_t start_point_run(const std::string& exe, const std::string& log, bool resume, char* const* argv,
+                      char* const* envp) {
+  int report[2];
+  if (pipe2(report, O_CLOEXEC) != 0) throw Error(fmt::format("study: cannot start {} ({})", exe, std::strerror(errno)));
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(report[0]);
+    int err = 0;
+    if (prctl(PR_SET_PDEATHSIG, SIGTERM) != 0 || getppid() != parent) err = ESRCH;  // the study is gone already
+    // A continued run appends to the log of the run it continues.
+    const int fd = err ? -1 : open(log.c_str(), O_WRONLY | O_CREAT | O_NOFOLLOW | (resume ? O_APPEND : O_TRUNC), 0644);
+    if (!err && fd < 0) err = errno;
+    if (!err && (dup2(fd, STDOUT_FILENO) < 0 || dup2(fd, STDERR_FILENO) < 0)) err = errno;
+    if (!err) {
+      if (fd > STDERR_FILENO) close(fd);
+      execve(exe.c_str(), argv, envp);
+      err = errno;
+    }
+    [[maybe_unused]] const ssize_t n = write(report[1], &err, sizeof err);
+    _exit(127);
+  }
+  const int fork_errno = errno;
+  close(report[1]);
+  int err = 0;
+  if (pid > 0) {
+    ssize_t n = 0;
+    while ((n = read(report[0], &err, sizeof err)) < 0 && errno == EINTR) {
+    }
+    if (n != sizeof err) err = 0;  // closed by the exec: the run started
+  } else {
+    err = fork_errno;
+  }
+  close(report[0]);
+  if (err != 0) {
+    if (pid > 0) waitpid(pid, nullptr, 0);
+    throw Error(fmt::format("study: cannot start {} with its log {} ({})", exe, log, std::strerror(err)));
+  }
+  return pid;
 }
 
 /// The case keys a parameter value sets.
@@ -233,17 +280,7 @@ struct PointRunner::Impl {
     std::vector<char*> envp;
     for (auto& e : env) envp.push_back(e.data());
     envp.push_back(nullptr);
-    const std::string log = (dir / "run.log").string();
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    // A continued run appends to the log of the run it continues.
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(),
-                                     O_WRONLY | O_CREAT | O_NOFOLLOW | (resume ? O_APPEND : O_TRUNC), 0644);
-    posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, exe_.c_str(), &actions, nullptr, argv.data(), envp.data());
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) throw Error(fmt::format("study: cannot start {} ({})", exe_, std::strerror(rc)));
+    const pid_t pid = start_point_run(exe_, (dir / "run.log").string(), resume, argv.data(), envp.data());
     spdlog::info("study: run {} = {:.8g} -> {}{}", io::to_string(c_.study->parameter), value, dir.string(),
                  resume ? " (continued from its checkpoint)" : "");
     return pid;
@@ -268,6 +305,13 @@ struct PointRunner::Impl {
       if (message.empty())
         message = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
                                       : fmt::format("exit status {}", WEXITSTATUS(status));
+    }
+    if (!ok && !(WIFEXITED(status) && WEXITSTATUS(status) == kSolverFailedExitCode)) {
+      // Not the physics (another process's lock, a full disk, a kill, a bad input): no
+      // point.json, so the same command runs it again (from its checkpoint when it has one).
+      spdlog::warn("study: {} = {:.8g} failed, not for the physics: {}; not recorded (the same command runs it again)",
+                   io::to_string(c_.study->parameter), value, message);
+      return {.value = value, .ok = false, .rerun = true, .message = message, .dir = dir};
     }
     write_file_atomically(dir / "point.json",
                           fmt::format("{{\"value\": {}, \"ok\": {}, \"message\": {}}}\n", json_number(value),

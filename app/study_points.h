@@ -2,7 +2,9 @@
 // The points of `shellflow study`: every value of the parameter is a `shellflow run` of the
 // case with --set overrides, in its own folder (points/<parameter>_<value>/), in its own
 // process, up to --jobs at once. A point whose folder holds a finished point.json of the same
-// settings is not rerun; a run stopped with a checkpoint continues from it.
+// settings is not rerun; a run stopped with a checkpoint continues from it. A point run ends
+// when the study dies (SIGTERM: it stops with a checkpoint). Only a result of the physics is
+// recorded: a run that failed otherwise (exit code not 0, 4 or 75) is rerun by the next study.
 #include <csignal>
 #include <filesystem>
 #include <memory>
@@ -18,6 +20,9 @@ namespace shellflow::app::study {
 struct Point {
   double value = 0.0;
   bool ok = false;
+  /// Failed for a reason other than the physics (exit code other than 0, 4 and 75: a lock,
+  /// a kill, an I/O or input error): not recorded in point.json, the next study reruns it.
+  bool rerun = false;
   std::string message;  ///< failed: the run's error line
   double growth_rate = std::nan(""), growth_rate_error = std::nan(""), frequency_hz = std::nan("");
   bool saturated = false;

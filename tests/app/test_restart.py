@@ -7,6 +7,7 @@ OpenMP threads. Signals, refusals and random SIGKILLs are tested on the same cas
 The executable comes from $SHELLFLOW_EXE.
 """
 import csv
+import fcntl
 import os
 import random
 import signal
@@ -218,6 +219,25 @@ class RestartRuns(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertEqual(outputs(full), outputs(part))
 
+    def test_a_run_killed_after_its_last_checkpoint_is_finished_by_a_restart(self):
+        # A kill between the last step's checkpoint and the end-of-run files (response.json of a
+        # shell run; a flow run writes nothing after its last step): --restart of that checkpoint
+        # makes no step and writes them, the same bytes as the run that was not killed.
+        for case, overrides, ends in (
+                (PISTON, ["time.end=0.01", "output.every=7", "output.checkpoint_every=50"], ["response.json"]),
+                (os.path.join(CASES, RUNS["flow"][0]), RUNS["flow"][1] + ["output.checkpoint_every=1"], [])):
+            full, part = (os.path.join(self.dir, os.path.basename(case) + x) for x in ("_full", "_part"))
+            r = shellflow("run", case, "-o", full, "--no-plot", *sets(overrides))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            r = shellflow("run", case, "-o", part, "--no-plot", *sets(overrides))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            for name in ends:
+                os.remove(os.path.join(part, name))
+            r = shellflow("run", case, "--restart", part, "--no-plot", *sets(overrides))
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("is the last of this run: no step to make; writing its end-of-run files", r.stderr)
+            self.assertEqual(outputs(full), outputs(part), case)
+
     def test_a_longer_time_end_continues_a_finished_run(self):
         overrides = ["output.every=7", "output.checkpoint_every=50"]
         full, part = os.path.join(self.dir, "full"), os.path.join(self.dir, "part")
@@ -295,31 +315,77 @@ class RestartSignals(unittest.TestCase):
         assert_readable(self, out)
         self.restart_and_compare(out)
 
-    def test_an_interrupted_study_continues_its_runs_from_their_checkpoints(self):
+    def assert_same_study(self, straight, other):
+        for point in ("mach_1.95", "mach_2.1"):
+            a = outputs(os.path.join(straight, "points", point))
+            b = outputs(os.path.join(other, "points", point))
+            for name in ("probes.csv", "coupling.csv", "response.json", "shell.pvd"):
+                self.assertTrue(a[name] == b[name], f"{other}: {point}/{name}")
+        with open(os.path.join(straight, "study.csv")) as f, open(os.path.join(other, "study.csv")) as g:
+            self.assertEqual(f.read(), g.read(), other)
+
+    def test_an_interrupted_killed_or_locked_out_study_continues_to_the_same_result(self):
+        # One study three ways, each ending with the straight study's points and study.csv:
+        # Ctrl-C (the study and its runs stop with checkpoints, exit 75); SIGKILL to the study
+        # alone (its runs get SIGTERM from the kernel, stop with checkpoints and release their
+        # folders); a point folder locked by another process (the point is not recorded as failed:
+        # the study exits 1 naming it, and the same command runs it once the lock is gone).
         case = os.path.join(CASES, "panel_flutter", "clamped_sliding_piston_monolithic.yaml")
         args = ["--no-plot", "-j", "2", "--set", "study.range=[1.95, 2.1]", "--set", "study.points=2",
                 "--set", "study.max_refinements=1", "--set", "study.set={time.end: 0.12}"]
-        straight, stopped = os.path.join(self.dir, "study_straight"), os.path.join(self.dir, "study_stopped")
+        straight = os.path.join(self.dir, "study_straight")
         r = shellflow("study", case, "-o", straight, *args)
         self.assertEqual(r.returncode, 0, r.stderr)
-        p = subprocess.Popen([EXE, "study", case, "-o", stopped, *args], stdout=subprocess.PIPE,
-                             stderr=subprocess.PIPE, text=True, start_new_session=True)
-        self.wait_for_rows(os.path.join(stopped, "points", "mach_1.95"), 100)
-        os.killpg(p.pid, signal.SIGINT)  # a terminal's Ctrl-C: the study and its runs
-        _, err = p.communicate(timeout=120)
-        self.assertEqual(p.returncode, STOPPED, err)
-        self.assertIn("stopped with a checkpoint", err)
-        self.assertIn("run the same command again to continue", err)
-        r = shellflow("study", case, "-o", stopped, *args)
+        for how in ("ctrl-c", "sigkill"):
+            out = os.path.join(self.dir, "study_" + how)
+            p = subprocess.Popen([EXE, "study", case, "-o", out, *args], stdout=subprocess.PIPE,
+                                 stderr=subprocess.PIPE, text=True, start_new_session=True)
+            self.wait_for_rows(os.path.join(out, "points", "mach_1.95"), 100)
+            if how == "ctrl-c":
+                os.killpg(p.pid, signal.SIGINT)  # a terminal's Ctrl-C: the study and its runs
+                _, err = p.communicate(timeout=120)
+                self.assertEqual(p.returncode, STOPPED, err)
+                self.assertIn("stopped with a checkpoint", err)
+                self.assertIn("run the same command again to continue", err)
+            else:
+                p.kill()
+                p.communicate(timeout=60)
+                for point in ("mach_1.95", "mach_2.1"):  # the orphaned runs end with checkpoints
+                    lock = os.path.join(out, "points", point, ".shellflow.lock")
+                    with open(lock, "a") as f:
+                        end = time.time() + 60
+                        while True:
+                            try:
+                                fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                                break
+                            except BlockingIOError:
+                                self.assertLess(time.time(), end, f"{lock}: still held 60 s after the study died")
+                                time.sleep(0.05)
+                    with open(os.path.join(out, "points", point, "run.log")) as f:
+                        self.assertIn("stopped on SIGTERM at step", f.read())
+            r = shellflow("study", case, "-o", out, *args)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertIn("(continued from its checkpoint)", r.stderr)
+            self.assert_same_study(straight, out)
+        locked = os.path.join(self.dir, "study_locked")
+        point = os.path.join(locked, "points", "mach_2.1")
+        os.makedirs(point)
+        with open(os.path.join(point, ".shellflow.lock"), "w") as f:
+            f.write(f"{os.getpid()}\n")
+            f.flush()
+            fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            r = shellflow("study", case, "-o", locked, *args)
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn("mach = 2.1 failed, not for the physics: ", r.stderr)
+        self.assertIn(f"another shellflow process (pid {os.getpid()})", r.stderr)
+        self.assertIn("shellflow: error: study: 1 point(s) failed for reasons other than the physics and were not "
+                      "recorded: mach = 2.1 (", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(point, "point.json")))
+        self.assertTrue(os.path.exists(os.path.join(locked, "points", "mach_1.95", "point.json")))
+        r = shellflow("study", case, "-o", locked, *args)
         self.assertEqual(r.returncode, 0, r.stderr)
-        self.assertIn("(continued from its checkpoint)", r.stderr)
-        for point in ("mach_1.95", "mach_2.1"):
-            a = outputs(os.path.join(straight, "points", point))
-            b = outputs(os.path.join(stopped, "points", point))
-            for name in ("probes.csv", "coupling.csv", "response.json", "shell.pvd"):
-                self.assertTrue(a[name] == b[name], f"{point}/{name}")
-        with open(os.path.join(straight, "study.csv")) as f, open(os.path.join(stopped, "study.csv")) as g:
-            self.assertEqual(f.read(), g.read())
+        self.assertIn("mach = 1.95 already done (ok), not rerun", r.stderr)
+        self.assert_same_study(straight, locked)
 
     def test_stop_at_wall(self):
         out = os.path.join(self.dir, "wall")
@@ -409,10 +475,9 @@ class RestartRefusals(unittest.TestCase):
         self.refused("damaged (entry '../../evil.vtu' at t = 0 of shell.pvd is not a file of the output folder)",
                      after_setup=True)
 
-    def test_a_time_end_at_or_before_the_checkpoint(self):
+    def test_a_time_end_before_the_checkpoint(self):
         self.refused("step 20 (t = 0.002 s) is after time.end = 0.001 s of this run; raise time.end",
                      "--set", "time.end=0.001")
-        self.refused("step 20 (t = 0.002 s) is at time.end = 0.002 s of this run", "--set", "time.end=0.002")
 
     def test_a_truncated_checkpoint(self):
         with open(self.checkpoint, "wb") as f:
@@ -496,9 +561,9 @@ class RestartAfterKills(unittest.TestCase):
                 time.sleep(rng.uniform(0.05, 0.25) * max(duration, 1.0))
                 p.kill()
                 _, err = p.communicate(timeout=60)
-                # Finished before the kill, or a kill after the last step's checkpoint left nothing to
-                # continue (the restart refuses at once: "... is at time.end ..."): start over.
-                if p.returncode == 0 or (p.returncode == 1 and "is at time.end" in err):
+                # Finished before the kill (a restart from the last step's checkpoint only writes the
+                # end-of-run files): start over.
+                if p.returncode == 0:
                     for name in os.listdir(out):
                         os.remove(os.path.join(out, name))
                     continue

@@ -75,15 +75,15 @@ io::Checkpoint load_restart(const fs::path& path, const io::Case& c) {
     if (d.name.starts_with("mesh ")) digests.push_back(d);
   if (const std::string why = io::checkpoint_mismatch(checkpoint, current_header(c, digests)); !why.empty())
     throw Error(why);
-  // A restart continues a run: its checkpoint lies before time.end (refused before anything is
-  // set up or written; the time loop checks the step once it knows the steps).
+  // A restart continues a run: its checkpoint lies at or before time.end (refused before
+  // anything is set up or written; the time loop checks the step once it knows the steps). A
+  // checkpoint at time.end finishes a run killed before its end-of-run files.
   const io::CheckpointHeader& then = checkpoint.header;
-  if (c.time && then.time >= c.time->end * (1.0 - 1e-9))
+  if (c.time && then.time > c.time->end * (1.0 + 1e-9))
     throw Error(fmt::format(
-        "{}: step {} (t = {:.6g} s) is {} time.end = {:.6g} s of this run; raise time.end (--set time.end=...) to "
+        "{}: step {} (t = {:.6g} s) is after time.end = {:.6g} s of this run; raise time.end (--set time.end=...) to "
         "continue it",
-        checkpoint.file.string(), then.step, then.time, then.time > c.time->end * (1.0 + 1e-9) ? "after" : "at",
-        c.time->end));
+        checkpoint.file.string(), then.step, then.time, c.time->end));
   return checkpoint;
 }
 

@@ -31,6 +31,11 @@ namespace shellflow::run {
 /// SIGINT/SIGTERM): EX_TEMPFAIL, "try again later".
 inline constexpr int kStoppedExitCode = 75;
 
+/// The exit code of a run the physics stopped (a SolverError: Newton gave up, a negative
+/// density, an inverted element): a result of the case, where exit code 1 is an input or
+/// system error. A study records the first as a failed point and reruns the second.
+inline constexpr int kSolverFailedExitCode = 4;
+
 /// The command line's stop and restart options.
 struct StopOptions {
   std::optional<long> stop_after;      ///< steps of this invocation, then a checkpoint and exit

@@ -1,6 +1,7 @@
 #include "shellflow/run/time_loop.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include "shellflow/core/error.h"
 #include "shellflow/core/progress.h"
@@ -44,18 +45,26 @@ long run_time_loop(const TimeLoop& loop, const std::function<double(long)>& adva
 
 namespace {
 
-/// A checkpoint's step is one this run makes, and not its last: a restart continues a run.
+/// A checkpoint's step is one this run makes: a restart continues a run.
 void check_restart_step(const RunControl& control, const TimeLoop& loop) {
   const io::Checkpoint& c = *control.restart();
   const long step = c.header.step;
-  const bool done = loop.steps > 0 ? step >= loop.steps : (loop.more && !loop.more(step));
-  if (done)
-    throw Error(
-        fmt::format("{}: step {} (t = {:.6g} s) is {} the end of this run ({}); raise time.end (--set time.end=...) to "
-                    "continue it",
-                    c.file.string(), step, c.header.time, loop.steps > 0 && step > loop.steps ? "after" : "at",
-                    loop.steps > 0 ? fmt::format("{} steps, time.end = {:.6g} s", loop.steps, loop.end_time)
-                                   : fmt::format("time.end = {:.6g}", loop.end_time)));
+  if (loop.steps > 0 && step > loop.steps)
+    throw Error(fmt::format(
+        "{}: step {} (t = {:.6g} s) is after the end of this run ({} steps, time.end = {:.6g} s); raise time.end "
+        "(--set time.end=...) to continue it",
+        c.file.string(), step, c.header.time, loop.steps, loop.end_time));
+}
+
+/// A restart from the run's last step makes no step and writes the end-of-run files (of a run
+/// killed before it wrote them); said once the state is restored (a loop that ends by its time
+/// or convergence knows only then).
+void log_restart_at_the_end(const RunControl& control, const TimeLoop& loop) {
+  const io::Checkpoint& c = *control.restart();
+  const long step = c.header.step;
+  if (loop.steps > 0 ? step == loop.steps : (loop.more && !loop.more(step)))
+    spdlog::info("{}: step {} is the last of this run: no step to make; writing its end-of-run files", c.file.string(),
+                 step);
 }
 
 }  // namespace
@@ -66,6 +75,7 @@ long step_in_time(RunControl& control, Recorder& recorder, const TimeStepping& s
   if (control.restarting()) {
     check_restart_step(control, s.loop);  // before any file is touched
     control.restore(s.time, s.loop.steps, s.loop.end_time);
+    log_restart_at_the_end(control, s.loop);
   } else {
     if (s.before_frame_0) s.before_frame_0();
     dist::on_every_rank(control.ranks(), [&] { recorder.record(0, s.time(), Record::probes_and_fields); });
