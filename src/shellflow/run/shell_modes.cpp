@@ -69,7 +69,8 @@ shell::ModalResult solve(const io::ShellAnalysis& analysis, const shell::ShellMo
   } catch (const SolverError& e) {
     std::string_view what = e.what();  // the module's own prefix dropped
     if (what.starts_with("shell modal analysis: ")) what.remove_prefix(22);
-    throw SolverError(analysis.where.message(what));
+    // Supports that leave a mechanism: the case's to fix, not a run the physics stopped.
+    throw InputError(analysis.where.message(what));
   }
 }
 
