@@ -316,9 +316,8 @@ MeshSizeEstimate estimate_in_session(const std::filesystem::path& geometry, cons
     return e;  // a geometry Gmsh cannot mesh coarse: the meshing at the factor asked says why, or works
   }
   if (n1 == 0 || n2 == 0) return e;
-  const int dim = std::max(1, gmsh::model::getDimension() > 0 ? gmsh::model::getDimension() : 3);
-  // 0: a structured script that keeps its cell counts; at most the dimension.
-  e.exponent = std::clamp(std::log2(double(n2) / double(n1)), 0.0, double(options.dim > 0 ? options.dim : dim));
+  // 0: a structured script that keeps its cell counts; at most the dimension (3 unless given).
+  e.exponent = std::clamp(std::log2(double(n2) / double(n1)), 0.0, options.dim > 0 ? double(options.dim) : 3.0);
   e.at_factor_one = double(n1);
   e.elements = double(n2) * std::pow(2.0 * options.size_factor, -e.exponent);
   spdlog::info("{}: about {:.3g} elements at size factor {:.3g} ({} at 1, {} at 0.5; the machine holds about {:.2g})",
@@ -326,14 +325,18 @@ MeshSizeEstimate estimate_in_session(const std::filesystem::path& geometry, cons
   return e;
 }
 
-void check_mesh_size_in_session(const std::filesystem::path& geometry, const MeshingOptions& options) {
-  const MeshSizeEstimate e = estimate_in_session(geometry, options);
-  if (!(e.elements > e.limit) || !(e.limit > 0.0)) return;
+[[noreturn]] void throw_size_error(const std::filesystem::path& geometry, const MeshingOptions& options,
+                                   const MeshSizeEstimate& e) {
   throw_input_error(
       "{}: {} {:.3g} would make about {:.2g} elements ({:.0f} at size factor 1, growing as factor^-{:.2g}); "
       "this machine's memory holds about {:.2g}; raise it to {:.2g} or more",
       geometry.string(), options.size_factor_key, options.size_factor, e.elements, e.at_factor_one, e.exponent, e.limit,
       std::pow(e.limit / e.at_factor_one, -1.0 / e.exponent));
+}
+
+void check_mesh_size_in_session(const std::filesystem::path& geometry, const MeshingOptions& options) {
+  const MeshSizeEstimate e = estimate_in_session(geometry, options);
+  if (e.elements > e.limit && e.limit > 0.0) throw_size_error(geometry, options, e);
 }
 
 }  // namespace
@@ -349,10 +352,8 @@ MeshSizeEstimate estimate_mesh_size(const std::filesystem::path& geometry, const
 
 void check_mesh_size_of(const std::filesystem::path& geometry, const MeshingOptions& options) {
   if (!(options.size_factor < kSizeFactorProbedBelow)) return;
-  require_file(geometry);
-  check_gmsh_input(geometry);
-  GmshSession session(false);
-  with_gmsh(geometry, "mesh the geometry", [&] { check_mesh_size_in_session(geometry, options); });
+  const MeshSizeEstimate e = estimate_mesh_size(geometry, options);
+  if (e.elements > e.limit && e.limit > 0.0) throw_size_error(geometry, options, e);
 }
 
 Mesh generate_mesh(const std::filesystem::path& geometry, const MeshingOptions& options, std::string mesh_name) {
