@@ -72,6 +72,15 @@ TEST(CaseNames, EveryEnumeratorRoundTripsThroughToStringAndTheParser) {
   expect_round_trip(detail::kProbeReductions);
   expect_round_trip(detail::kStudyParameters);
   expect_round_trip(detail::kAccelerationTypes);
+  expect_round_trip(detail::kFluidModels);
+  expect_round_trip(detail::kViscosityLaws);
+  expect_round_trip(detail::kFluidAnalysisTypes);
+  expect_round_trip(detail::kPathControls);
+  expect_round_trip(detail::kTimeSchemes);
+  expect_round_trip(detail::kCouplingSchemes);
+  expect_round_trip(detail::kPredictors);
+  expect_round_trip(detail::kMeshVelocities);
+  expect_round_trip(detail::kShellStresses);
 }
 
 TEST(CaseNames, ToStringAsCaseFilesWriteThem) {

@@ -67,9 +67,7 @@ CouplingSection::Acceleration read_acceleration(const YamlNode& parent) {
 CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
   CouplingSection c;
   c.where = node.location();
-  c.scheme = node.choice("scheme", {"staggered", "monolithic"}, "staggered") == "monolithic"
-                 ? CouplingSection::Scheme::monolithic
-                 : CouplingSection::Scheme::staggered;
+  c.scheme = read_enum(node, "scheme", kCouplingSchemes, CouplingSection::Scheme::staggered);
   if (auto text = node.maybe<std::string>("substeps"); text && *text != "auto") {
     int n = 0;
     const auto [end, ec] = std::from_chars(text->data(), text->data() + text->size(), n);
@@ -83,8 +81,7 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
     node.fail("predictor",
               "the monolithic scheme computes the loads inside the shell's Newton iteration and predicts none: "
               "remove 'predictor' (or use scheme: staggered)");
-  c.predictor = node.choice("predictor", {"none", "linear"}, "linear") == "none" ? CouplingSection::Predictor::none
-                                                                                 : CouplingSection::Predictor::linear;
+  c.predictor = read_enum(node, "predictor", kPredictors, CouplingSection::Predictor::linear);
   c.iterations = node.optional<int>("iterations", 1, Range::in_range(1, 1000));
   c.tolerance = node.optional<double>("tolerance", 1e-6, Range::open(0.0, 1.0));
   if (node.has("acceleration")) c.acceleration = read_acceleration(node);
@@ -94,9 +91,7 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
               "'iterations' (or use scheme: staggered)");
   if (c.iterations == 1 && node.has("acceleration") && c.acceleration.type != CouplingSection::Acceleration::Type::none)
     node.fail("acceleration", "an acceleration acts between coupling iterations: set 'iterations' above 1 (e.g. 20)");
-  c.mesh_velocity = node.choice("mesh_velocity", {"positions", "interpolated"}, "positions") == "interpolated"
-                        ? CouplingSection::MeshVelocity::interpolated
-                        : CouplingSection::MeshVelocity::positions;
+  c.mesh_velocity = read_enum(node, "mesh_velocity", kMeshVelocities, CouplingSection::MeshVelocity::positions);
   if (auto p = node.optional_child("cavity_pressure")) c.cavity_pressure = read_time_function(*p);
   c.max_gap = node.optional<double>("max_gap", 1e-6, Range::positive(), "m");
   if (node.has("fluid_group")) {

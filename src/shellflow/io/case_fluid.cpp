@@ -67,9 +67,7 @@ namespace detail {
 
 FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs) {
   FluidSection fluid;
-  fluid.model = node.choice("model", {"euler", "piston_theory"}, "euler") == "piston_theory"
-                    ? FluidModelType::piston_theory
-                    : FluidModelType::euler;
+  fluid.model = read_enum(node, "model", kFluidModels, FluidModelType::euler);
   if (fluid.model == FluidModelType::piston_theory) {
     for (const std::string_view key : {"boundaries", "mesh_motion", "analysis"})
       if (node.has(key))
@@ -86,11 +84,7 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
                 "no_slip_wall for a viscous flow)");
     if (auto v = gas->optional_child("viscosity")) {
       Viscosity& mu = fluid.gas.viscosity;
-      const std::string law = v->choice("law", {"none", "constant", "sutherland", "power"});
-      mu.law = law == "constant"     ? ViscosityLaw::constant
-               : law == "sutherland" ? ViscosityLaw::sutherland
-               : law == "power"      ? ViscosityLaw::power
-                                     : ViscosityLaw::none;
+      mu.law = read_enum(*v, "law", kViscosityLaws);
       mu.mu_ref = v->optional<double>("mu_ref", mu.mu_ref, Range::positive(), "Pa s");
       mu.prandtl = v->optional<double>("prandtl", mu.prandtl, Range::positive());
       if (mu.law == ViscosityLaw::power) {
@@ -159,8 +153,7 @@ FluidSection read_fluid(const YamlNode& node, std::vector<GroupReference>& refs)
   if (auto a = node.optional_child("analysis")) {
     FluidAnalysis analysis;
     analysis.where = a->location();
-    analysis.type = a->choice("type", {"transient", "steady"}) == "steady" ? FluidAnalysisType::steady
-                                                                           : FluidAnalysisType::transient;
+    analysis.type = read_enum(*a, "type", kFluidAnalysisTypes);
     analysis.q_dif = a->optional<double>("q_dif", 0.0, Range::non_negative());
     analysis.consistent_mass_iterations = a->optional<int>("consistent_mass_iterations", 0, Range::in_range(0, 20));
     analysis.slip_walls = read_enum(*a, "slip_walls", kFluidSlipWalls, FluidSlipWalls::weak);

@@ -194,4 +194,62 @@ inline constexpr std::array<EnumName<CouplingSection::Acceleration::Type>, 4> kA
 }};
 static_assert(covers_in_order(kAccelerationTypes));
 
+inline constexpr std::array<EnumName<FluidModelType>, 2> kFluidModels = {{
+    {FluidModelType::euler, "euler"},
+    {FluidModelType::piston_theory, "piston_theory"},
+}};
+static_assert(covers_in_order(kFluidModels));
+
+inline constexpr std::array<EnumName<ViscosityLaw>, 4> kViscosityLaws = {{
+    {ViscosityLaw::none, "none"},
+    {ViscosityLaw::constant, "constant"},
+    {ViscosityLaw::sutherland, "sutherland"},
+    {ViscosityLaw::power, "power"},
+}};
+static_assert(covers_in_order(kViscosityLaws));
+
+inline constexpr std::array<EnumName<FluidAnalysisType>, 2> kFluidAnalysisTypes = {{
+    {FluidAnalysisType::transient, "transient"},
+    {FluidAnalysisType::steady, "steady"},
+}};
+static_assert(covers_in_order(kFluidAnalysisTypes));
+
+inline constexpr std::array<EnumName<PathControl>, 3> kPathControls = {{
+    {PathControl::load, "load"},
+    {PathControl::displacement, "displacement"},
+    {PathControl::arc_length, "arc_length"},
+}};
+static_assert(covers_in_order(kPathControls));
+
+inline constexpr std::array<EnumName<TimeScheme>, 2> kTimeSchemes = {{
+    {TimeScheme::newmark, "newmark"},
+    {TimeScheme::midpoint, "midpoint"},
+}};
+static_assert(covers_in_order(kTimeSchemes));
+
+inline constexpr std::array<EnumName<CouplingSection::Scheme>, 2> kCouplingSchemes = {{
+    {CouplingSection::Scheme::staggered, "staggered"},
+    {CouplingSection::Scheme::monolithic, "monolithic"},
+}};
+static_assert(covers_in_order(kCouplingSchemes));
+
+inline constexpr std::array<EnumName<CouplingSection::Predictor>, 2> kPredictors = {{
+    {CouplingSection::Predictor::none, "none"},
+    {CouplingSection::Predictor::linear, "linear"},
+}};
+static_assert(covers_in_order(kPredictors));
+
+inline constexpr std::array<EnumName<CouplingSection::MeshVelocity>, 2> kMeshVelocities = {{
+    {CouplingSection::MeshVelocity::positions, "positions"},
+    {CouplingSection::MeshVelocity::interpolated, "interpolated"},
+}};
+static_assert(covers_in_order(kMeshVelocities));
+
+inline constexpr std::array<EnumName<OutputSection::ShellStress>, 3> kShellStresses = {{
+    {OutputSection::ShellStress::cauchy, "cauchy"},
+    {OutputSection::ShellStress::second_piola_kirchhoff, "second_piola_kirchhoff"},
+    {OutputSection::ShellStress::none, "none"},
+}};
+static_assert(covers_in_order(kShellStresses));
+
 }  // namespace shellflow::io::detail

@@ -17,10 +17,7 @@ OutputSection read_output(const YamlNode& root, const std::string& case_name) {
     }
     out.every = node->optional<int>("every", 1, Range::at_least(1));
     out.checkpoint_every = node->optional<long>("checkpoint_every", 0, Range::non_negative());
-    const std::string stress = node->choice("shell_stress", {"cauchy", "second_piola_kirchhoff", "none"}, "cauchy");
-    out.shell_stress = stress == "cauchy" ? OutputSection::ShellStress::cauchy
-                       : stress == "none" ? OutputSection::ShellStress::none
-                                          : OutputSection::ShellStress::second_piola_kirchhoff;
+    out.shell_stress = read_enum(*node, "shell_stress", kShellStresses, OutputSection::ShellStress::cauchy);
     node->finish();
   }
   return out;

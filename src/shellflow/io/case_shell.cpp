@@ -167,9 +167,8 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
     }
     if (analysis.type == ShellAnalysisType::static_load) {
       analysis.steps = a->optional<int>("steps", 10, Range::at_least(1));
-      const std::string control = a->choice("control", {"load", "displacement", "arc_length"}, "load");
-      if (control == "displacement") {
-        analysis.control = PathControl::displacement;
+      analysis.control = read_enum(*a, "control", kPathControls, PathControl::load);
+      if (analysis.control == PathControl::displacement) {
         const YamlNode d = a->child("controlled");
         if (d.has("group") == d.has("node")) {
           d.fail("expected exactly one of 'group' (its mean displacement) and 'node'");
@@ -180,16 +179,16 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
         analysis.controlled_component = axis == "x" ? 0 : axis == "y" ? 1 : 2;
         d.finish();
         analysis.final_displacement = a->required<double>("final_value", Range::any(), "m");
-      } else if (control == "arc_length") {
-        analysis.control = PathControl::arc_length;
+      } else if (analysis.control == PathControl::arc_length) {
         analysis.initial_load_increment = a->optional<double>("initial_load_increment", 0.1, Range::positive());
         analysis.final_load_factor = a->optional<double>("final_load_factor", 1.0, Range::positive());
       }
       for (const Support& support : shell.supports) {
         if (support.type == SupportType::prescribed && analysis.control != PathControl::load) {
-          a->fail("control", fmt::format("the prescribed support {} (line {}) moves with the load factor, "
-                                         "which control: {} varies inside a step; use control: load",
-                                         support.where.key_path, support.where.line, control));
+          a->fail("control",
+                  fmt::format("the prescribed support {} (line {}) moves with the load factor, "
+                              "which control: {} varies inside a step; use control: load",
+                              support.where.key_path, support.where.line, name_of(kPathControls, analysis.control)));
         }
       }
     } else if (analysis.type == ShellAnalysisType::dynamic) {
@@ -198,8 +197,7 @@ ShellSection read_shell(const YamlNode& node, std::vector<GroupReference>& refs)
       }
       if (auto f = a->optional_child("load_function")) analysis.load_function = read_time_function(*f);
       analysis.mass_damping = a->optional<double>("mass_damping", 0.0, Range::non_negative(), "1/s");
-      analysis.scheme = a->choice("scheme", {"newmark", "midpoint"}, "newmark") == "midpoint" ? TimeScheme::midpoint
-                                                                                              : TimeScheme::newmark;
+      analysis.scheme = read_enum(*a, "scheme", kTimeSchemes, TimeScheme::newmark);
     }
     if (analysis.type != ShellAnalysisType::modal)
       analysis.modified_newton = a->choice("newton", {"full", "modified"}, "full") == "modified";
