@@ -28,6 +28,20 @@ double weighted_norm(std::span<const double> v, std::span<const double> weight) 
   return std::sqrt(s);
 }
 
+std::vector<double> block_scale(std::span<const double> v, std::span<const double> weight,
+                                std::span<const std::size_t> blocks) {
+  std::vector<double> scale(v.size(), 1.0);
+  std::size_t from = 0;
+  for (const std::size_t size : blocks) {
+    if (from + size > v.size()) throw Error("coupling: the blocks of the interface vector overrun it");
+    const double norm = weighted_norm(v.subspan(from, size), weight.subspan(from, size));
+    if (norm > 0.0 && std::isfinite(norm)) std::fill_n(scale.begin() + std::ptrdiff_t(from), size, 1.0 / norm);
+    from += size;
+  }
+  if (from != v.size()) throw Error("coupling: the blocks of the interface vector do not cover it");
+  return scale;
+}
+
 namespace {
 
 double weighted_dot(std::span<const double> a, std::span<const double> b, std::span<const double> weight) {
@@ -57,13 +71,21 @@ class ConstantRelaxation final : public Acceleration {
 /// safe first step in the next one).
 class Aitken final : public Acceleration {
  public:
-  Aitken(double omega0, std::vector<double> weight) : omega0_(omega0), omega_(omega0), weight_(std::move(weight)) {}
+  Aitken(double omega0, std::vector<double> weight, std::vector<std::size_t> blocks)
+      : omega0_(omega0), omega_(omega0), area_(std::move(weight)), blocks_(std::move(blocks)) {
+    weight_ = area_;
+  }
   void begin_window() override {
     omega_ = std::copysign(std::min(omega0_, std::abs(omega_)), omega_);
     have_previous_ = false;
   }
   void update(std::span<double> x, std::span<const double> fx) override {
     const std::size_t n = x.size();
+    if (!have_previous_ && blocks_.size() > 1) {
+      // The window's block scaling: the area weights times 1/|H(x^0)_b|^2.
+      const std::vector<double> scale = block_scale(fx, area_, blocks_);
+      for (std::size_t k = 0; k < n; ++k) weight_[k] = area_[k] * scale[k] * scale[k];
+    }
     residual_.resize(n);
     for (std::size_t k = 0; k < n; ++k) residual_[k] = fx[k] - x[k];
     if (have_previous_) {
@@ -84,16 +106,19 @@ class Aitken final : public Acceleration {
 
  private:
   double omega0_, omega_;
-  std::vector<double> weight_, residual_, previous_;
+  std::vector<double> area_, weight_, residual_, previous_;
+  std::vector<std::size_t> blocks_;
   bool have_previous_ = false;
 };
 
-/// IQN-ILS. Columns are stored in the weighted scaling (sqrt(w) v) for V and unscaled for W.
+/// IQN-ILS. Columns are stored in the weighted scaling (sqrt(w) v) for V and unscaled for W;
+/// with several blocks the least squares takes V and r times the window's block scaling.
 class IqnIls final : public Acceleration {
  public:
-  IqnIls(const AccelerationOptions& o, std::vector<double> weight) : options_(o) {
-    scale_.resize(Eigen::Index(weight.size()));
-    for (std::size_t k = 0; k < weight.size(); ++k) scale_[Eigen::Index(k)] = std::sqrt(weight[k]);
+  IqnIls(const AccelerationOptions& o, std::vector<double> weight, std::vector<std::size_t> blocks)
+      : options_(o), weight_(std::move(weight)), blocks_(std::move(blocks)) {
+    scale_.resize(Eigen::Index(weight_.size()));
+    for (std::size_t k = 0; k < weight_.size(); ++k) scale_[Eigen::Index(k)] = std::sqrt(weight_[k]);
   }
   void begin_window() override {
     current_ = {};
@@ -112,6 +137,10 @@ class IqnIls final : public Acceleration {
     const Eigen::Map<const Eigen::VectorXd> fxv(fx.data(), n);
     Eigen::Map<Eigen::VectorXd> xv(x.data(), n);
     const Eigen::VectorXd r = scale_.cwiseProduct(fxv - xv);  // scaled residual
+    if (!have_previous_ && blocks_.size() > 1) {
+      const std::vector<double> scale = block_scale(fx, weight_, blocks_);
+      block_ = Eigen::Map<const Eigen::VectorXd>(scale.data(), n);
+    }
     if (have_previous_) {
       current_.v.insert(current_.v.begin(), r - previous_r_);
       current_.w.insert(current_.w.begin(), fxv - previous_fx_);
@@ -138,8 +167,9 @@ class IqnIls final : public Acceleration {
     std::vector<Eigen::VectorXd> q;
     std::vector<std::size_t> kept;
     Eigen::MatrixXd R = Eigen::MatrixXd::Zero(Eigen::Index(vs.size()), Eigen::Index(vs.size()));
+    const bool blocked = blocks_.size() > 1;
     for (std::size_t j = 0; j < vs.size(); ++j) {
-      Eigen::VectorXd a = *vs[j];
+      Eigen::VectorXd a = blocked ? Eigen::VectorXd(block_.cwiseProduct(*vs[j])) : *vs[j];
       const double norm = a.norm();
       Eigen::VectorXd coeff(Eigen::Index(q.size()));
       for (std::size_t i = 0; i < q.size(); ++i) {
@@ -160,7 +190,8 @@ class IqnIls final : public Acceleration {
     }
     const Eigen::Index m = Eigen::Index(q.size());
     Eigen::VectorXd rhs(m);
-    for (Eigen::Index i = 0; i < m; ++i) rhs[i] = -q[std::size_t(i)].dot(r);
+    const Eigen::VectorXd rb = blocked ? Eigen::VectorXd(block_.cwiseProduct(r)) : r;
+    for (Eigen::Index i = 0; i < m; ++i) rhs[i] = -q[std::size_t(i)].dot(rb);
     const Eigen::VectorXd c = R.topLeftCorner(m, m).triangularView<Eigen::Upper>().solve(rhs);
     xv = fxv;
     for (Eigen::Index i = 0; i < m; ++i) xv += c[i] * *ws[kept[std::size_t(i)]];
@@ -199,7 +230,9 @@ class IqnIls final : public Acceleration {
     std::vector<Eigen::VectorXd> v, w;  ///< newest first
   };
   AccelerationOptions options_;
-  Eigen::VectorXd scale_, previous_r_, previous_fx_;
+  std::vector<double> weight_;
+  std::vector<std::size_t> blocks_;
+  Eigen::VectorXd scale_, block_, previous_r_, previous_fx_;
   bool have_previous_ = false;
   Window current_;
   std::deque<Window> past_;  ///< newest first
@@ -207,16 +240,17 @@ class IqnIls final : public Acceleration {
 
 }  // namespace
 
-std::unique_ptr<Acceleration> make_acceleration(const AccelerationOptions& o, std::vector<double> weight) {
+std::unique_ptr<Acceleration> make_acceleration(const AccelerationOptions& o, std::vector<double> weight,
+                                                std::vector<std::size_t> blocks) {
   switch (o.type) {
     case AccelerationType::none:
       return std::make_unique<NoAcceleration>();
     case AccelerationType::constant:
       return std::make_unique<ConstantRelaxation>(o.relaxation);
     case AccelerationType::aitken:
-      return std::make_unique<Aitken>(o.relaxation, std::move(weight));
+      return std::make_unique<Aitken>(o.relaxation, std::move(weight), std::move(blocks));
     case AccelerationType::iqn_ils:
-      return std::make_unique<IqnIls>(o, std::move(weight));
+      return std::make_unique<IqnIls>(o, std::move(weight), std::move(blocks));
   }
   throw Error("coupling: unknown acceleration");
 }

@@ -13,6 +13,11 @@
 //              join the current window's, near-dependent columns are filtered out (QR).
 // All inner products are weighted (the load points' reference areas): the norms are those of
 // the pressure field on the shell, independent of how the load points are distributed.
+// A vector of several blocks (the pressure, then the shear of a viscous flow: values five
+// orders of magnitude apart) is scaled per block in the inner products of aitken and iqn_ils,
+// each block by 1/|H(x^0)_b| of the window's first iteration (preCICE's "value"
+// preconditioner), so that the small block is not lost in the least squares; with one block
+// nothing is scaled.
 #include <deque>
 #include <memory>
 #include <span>
@@ -53,9 +58,15 @@ class Acceleration {
 };
 
 /// `weight`: one non-negative weight per entry (the load points' areas); the object keeps a copy.
-std::unique_ptr<Acceleration> make_acceleration(const AccelerationOptions& options, std::vector<double> weight);
+/// `blocks`: the sizes of the vector's blocks, in order, summing to its size (empty: one block).
+std::unique_ptr<Acceleration> make_acceleration(const AccelerationOptions& options, std::vector<double> weight,
+                                                std::vector<std::size_t> blocks = {});
 
 /// Weighted norm sqrt(sum w_k v_k^2).
 double weighted_norm(std::span<const double> v, std::span<const double> weight);
+
+/// Per entry, 1/|v_b|_w of its block b of `v` (1 where a block is zero): the block scaling.
+std::vector<double> block_scale(std::span<const double> v, std::span<const double> weight,
+                                std::span<const std::size_t> blocks);
 
 }  // namespace shellflow::coupling

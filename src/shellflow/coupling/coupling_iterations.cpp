@@ -1,14 +1,26 @@
 #include "shellflow/coupling/coupling_iterations.h"
 
+#include <fmt/format.h>
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "shellflow/core/error.h"
+
 namespace shellflow::coupling {
 
-CouplingIterations::CouplingIterations(CouplingIterationOptions options, std::vector<double> weight)
-    : options_(options), weight_(std::move(weight)), acceleration_(make_acceleration(options.acceleration, weight_)) {
+CouplingIterations::CouplingIterations(CouplingIterationOptions options, std::vector<double> weight,
+                                       std::vector<std::size_t> blocks)
+    : options_(options),
+      weight_(std::move(weight)),
+      blocks_(blocks.empty() ? std::vector<std::size_t>{weight_.size()} : blocks),
+      acceleration_(make_acceleration(options.acceleration, weight_, std::move(blocks))) {
+  std::size_t total = 0;
+  for (const std::size_t size : blocks_) total += size;
+  if (total != weight_.size())
+    throw Error(fmt::format("coupling: blocks of {} entries for an interface vector of {}", total, weight_.size()));
   x_.assign(weight_.size(), 0.0);
   difference_.assign(weight_.size(), 0.0);
   noise_norm_ = weighted_norm(std::vector<double>(weight_.size(), options_.noise_pressure), weight_);
@@ -21,13 +33,30 @@ void CouplingIterations::begin(std::span<const double> guess) {
   acceleration_->begin_window();
 }
 
+namespace {
+/// |r| / |f| (0 when both vanish).
+double relative(double r, double f) {
+  return r == 0.0 ? 0.0 : f > 0.0 ? r / f : std::numeric_limits<double>::infinity();
+}
+}  // namespace
+
 CouplingIterations::Outcome CouplingIterations::result(std::span<const double> result) {
   ++iteration_;
   for (std::size_t k = 0; k < x_.size(); ++k) difference_[k] = result[k] - x_[k];
   const double r = weighted_norm(difference_, weight_), f = weighted_norm(result, weight_);
-  residual_ = r == 0.0 ? 0.0 : f > 0.0 ? r / f : std::numeric_limits<double>::infinity();
+  residual_ = relative(r, f);
   if (!std::isfinite(f)) return Outcome::diverged;
-  if (!implicit()) return explicit_step(f);
+  if (!implicit()) return explicit_step(f);  // its blow-up monitor reads the whole vector's residual
+  if (blocks_.size() > 1) {
+    const std::span<const double> d(difference_), w(weight_);
+    residual_ = 0.0;
+    std::size_t from = 0;
+    for (const std::size_t size : blocks_) {
+      residual_ = std::max(residual_, relative(weighted_norm(d.subspan(from, size), w.subspan(from, size)),
+                                               weighted_norm(result.subspan(from, size), w.subspan(from, size))));
+      from += size;
+    }
+  }
   if (residual_ <= options_.tolerance) {
     acceleration_->end_window();
     return Outcome::done;

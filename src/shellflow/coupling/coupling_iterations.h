@@ -2,10 +2,11 @@
 // The coupling iterations of one shell step (docs/coupling.md, "Implicit coupling"): the
 // fixed point x = H(x) on the load vector, started from the load predictor, accelerated
 // (acceleration.h), stopped when the weighted residual |H(x) - x| / |H(x)| is below the
-// tolerance. With one iteration it is the explicit staggered scheme: no test, the residual is
-// only reported. The loop itself is the driver's (PartitionedSolver::step): this object
-// decides what to apply next and when to stop, so that the 1-D piston problem of the tests
-// runs the very same decisions.
+// tolerance in every block of the vector (the pressure, and the shear of a viscous flow: each
+// block's own relative residual, so that the shear converges as well as the pressure). With one iteration it is the
+// explicit staggered scheme: no test, the residual is only reported. The loop itself is the driver's
+// (PartitionedSolver::step): this object decides what to apply next and when to stop, so that the 1-D piston problem of
+// the tests runs the very same decisions.
 //
 // And the theory of the explicit scheme's added-mass instability, for a mass m per area on
 // a spring facing a gas of impedance rho c (a piston on a semi-infinite gas column):
@@ -50,8 +51,10 @@ class CouplingIterations {
   static constexpr double kBlowUpMiss = 0.5;
   static constexpr double kBlowUpGrowth = 10.0;
 
-  /// `weight`: per load point, its reference area.
-  CouplingIterations(CouplingIterationOptions options, std::vector<double> weight);
+  /// `weight`: per entry, its load point's reference area. `blocks`: the sizes of the
+  /// vector's blocks in order (empty: one block).
+  CouplingIterations(CouplingIterationOptions options, std::vector<double> weight,
+                     std::vector<std::size_t> blocks = {});
 
   bool implicit() const { return options_.max_iterations > 1; }
   const CouplingIterationOptions& options() const { return options_; }
@@ -62,7 +65,8 @@ class CouplingIterations {
   /// Iteration k gave H(x^k) = `result`: decides.
   Outcome result(std::span<const double> result);
   int iteration() const { return iteration_; }
-  /// |H(x^k) - x^k|_w / |H(x^k)|_w of the last iteration (0 when both vanish).
+  /// |H(x^k) - x^k|_w / |H(x^k)|_w of the last iteration (0 when both vanish), the largest
+  /// over the blocks.
   double residual() const { return residual_; }
   /// What carries over between windows (the acceleration's history, the explicit scheme's
   /// recent residuals).
@@ -77,7 +81,8 @@ class CouplingIterations {
 
   CouplingIterationOptions options_;
   std::vector<double> weight_, x_, difference_;
-  double noise_norm_ = 0.0;  ///< options_.noise_pressure in the weighted norm
+  std::vector<std::size_t> blocks_;  ///< never empty: one block of the whole vector at least
+  double noise_norm_ = 0.0;          ///< options_.noise_pressure in the weighted norm
   std::unique_ptr<Acceleration> acceleration_;
   int iteration_ = 0;
   double residual_ = 0.0;

@@ -36,7 +36,10 @@ PartitionedSolver::PartitionedSolver(shell::ShellModel& model, shell::NewmarkSol
       motion_(motion),
       options_(options),
       basis_(model),
-      iterations_(options.iterations, reference_areas(model, basis_, flow.has_shear())) {
+      iterations_(options.iterations, reference_areas(model, basis_, flow.has_shear()),
+                  flow.has_shear()
+                      ? std::vector<std::size_t>{model.load_points().size(), 3 * model.load_points().size()}
+                      : std::vector<std::size_t>{}) {
   const std::size_t n = model.load_points().size();
   if (options_.monolithic && iterations_.implicit())
     throw Error("coupling: the monolithic scheme has no coupling iterations (coupling.iterations must be 1)");
