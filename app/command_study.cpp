@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "commands.h"
+#include "shellflow/core/boundary_search.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
 #include "shellflow/core/output_file.h"
@@ -41,21 +42,6 @@ std::string csv_quoted(const std::string& s) {
   return out + "\"";
 }
 
-/// The first sign change of the growth rate among the finished points, by value.
-std::optional<std::pair<Point, Point>> bracket(const std::vector<Point>& points) {
-  std::vector<Point> ok;
-  for (const auto& p : points)
-    if (p.ok) ok.push_back(p);
-  std::sort(ok.begin(), ok.end(), [](const Point& a, const Point& b) { return a.value < b.value; });
-  for (std::size_t i = 1; i < ok.size(); ++i)
-    if ((ok[i - 1].growth_rate < 0.0) != (ok[i].growth_rate < 0.0)) return std::pair{ok[i - 1], ok[i]};
-  return std::nullopt;
-}
-
-double zero_of(const Point& a, const Point& b) {
-  return a.value - a.growth_rate * (b.value - a.value) / (b.growth_rate - a.growth_rate);
-}
-
 /// Where the study stands after its runs: every point, the bracket of the sign change, the
 /// refinement rounds made.
 struct StudyResult {
@@ -65,35 +51,20 @@ struct StudyResult {
   bool stopped = false;
 };
 
-/// Refinement: regula falsi (Illinois) on the bracket, with `jobs` points per round (the
-/// secant estimate first, the others splitting the bracket evenly).
+/// Refinement of the bracket (core/boundary_search.h), `jobs` points per round.
 void refine(const io::StudySection& s, int jobs, PointRunner& runner, const std::function<bool()>& stopped,
             StudyResult& r) {
-  double weight_a = 1.0, weight_b = 1.0;  // Illinois: an end kept twice in a row counts half
-  int last_kept = -1;                     // 0: a, 1: b
-  while (r.bracket && r.bracket->second.value - r.bracket->first.value > s.tolerance && r.rounds < s.max_refinements) {
+  IllinoisRefinement refinement(s.tolerance, s.max_refinements, jobs);
+  while (r.bracket && refinement.wants_round(r.bracket->first.value, r.bracket->second.value)) {
     const Point a = r.bracket->first, b = r.bracket->second;
-    const double w = b.value - a.value;
-    const double ga = a.growth_rate * weight_a, gb = b.growth_rate * weight_b;
-    double x = a.value - ga * w / (gb - ga);
-    x = std::clamp(x, a.value + 0.05 * w, b.value - 0.05 * w);
-    std::vector<double> next{x};
-    for (int k = 1; k < jobs; ++k) next.push_back(a.value + w * k / jobs);
-    std::sort(next.begin(), next.end());
-    next.erase(std::unique(next.begin(), next.end(), [&](double p, double q) { return std::abs(p - q) < 1e-3 * w; }),
-               next.end());
-    const auto fresh = runner.run(next);
+    const auto fresh = runner.run(refinement.next_values(a.value, a.growth_rate, b.value, b.growth_rate));
     if ((r.stopped = stopped())) return;
     r.points.insert(r.points.end(), fresh.begin(), fresh.end());
     ++r.rounds;
-    const auto nb = bracket(r.points);
+    const auto nb = first_sign_change(r.points);
     if (!nb) return;
-    const bool a_kept = nb->first.value == a.value, b_kept = nb->second.value == b.value;
-    const int kept = a_kept && !b_kept ? 0 : b_kept && !a_kept ? 1 : -1;
-    weight_a = kept == 0 ? (last_kept == 0 ? 0.5 * weight_a : weight_a) : 1.0;
-    weight_b = kept == 1 ? (last_kept == 1 ? 0.5 * weight_b : weight_b) : 1.0;
-    last_kept = kept;
-    if (a_kept && b_kept) {
+    if (refinement.record(a.value, b.value, nb->first.value, nb->second.value) ==
+        IllinoisRefinement::Outcome::stalled) {
       spdlog::warn("study: the runs inside [{:.8g}, {:.8g}] failed; the bracket stays", a.value, b.value);
       return;
     }
@@ -208,14 +179,17 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
   StudyResult result;
   result.points = runner.run(values);
   if (stopped()) return kStoppedExitCode;
-  result.bracket = bracket(result.points);
+  result.bracket = first_sign_change(result.points);
   refine(s, options.jobs, runner, stopped, result);
   if (result.stopped) return kStoppedExitCode;
   // 3. The results, the boundary and the plot.
   std::sort(result.points.begin(), result.points.end(),
             [](const Point& a, const Point& b) { return a.value < b.value; });
   std::optional<double> boundary;
-  if (result.bracket) boundary = zero_of(result.bracket->first, result.bracket->second);
+  if (result.bracket) {
+    const auto& [a, b] = *result.bracket;
+    boundary = secant_zero(a.value, a.growth_rate, b.value, b.growth_rate);
+  }
   const std::string json = write_results(c, result, boundary, outdir);
   log_outcome(s, result, boundary);
   spdlog::info("wrote {}: study.csv, study.json, points/", outdir.string());
