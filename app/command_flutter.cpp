@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <Eigen/Eigenvalues>
+#include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -53,6 +55,45 @@ coupling::PistonTheory piston_theory(const io::Case& c, const shell::ShellModel&
   }
 }
 
+/// Progress of the eigenvalue solves on a large system: a line every 10 s.
+class SolveProgress {
+ public:
+  void operator()(int solved) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now - last_ < std::chrono::seconds(10)) return;
+    last_ = now;
+    const double s = std::chrono::duration<double>(now - start_).count();
+    spdlog::info(
+        "flutter: {} eigenvalue solves in {:.0f} s ({:.2g} s each; a sweep makes its points and about 30 "
+        "bisections)",
+        total_ + solved, s, s / (total_ + solved));
+  }
+  /// A sweep of `solved` values ended: the next counts on.
+  void add(int solved) { total_ += solved; }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now(), last_ = start_;
+  int total_ = 0;
+};
+
+/// A warning before a dense solve that will take long: the full system (--direct) is one
+/// dense nonsymmetric eigenvalue problem of twice its dofs per value, O(n^3); the time is
+/// estimated from a solve of 200 x 200 timed here.
+void warn_of_dense_solves(const coupling::LinearFlutterSystem& linear, const FlutterOptions& options) {
+  const Eigen::Index n = 2 * linear.size();
+  if (n < 2000) return;
+  const Eigen::MatrixXd probe = Eigen::MatrixXd::Random(200, 200);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(probe, false);
+  const double t200 = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double each = t200 * std::pow(double(n) / 200.0, 3);
+  spdlog::warn(
+      "--direct: the full system has {} dofs, a dense {} x {} eigenvalue problem per value (O(n^3), about {:.0f} s "
+      "each on this machine; {} points and about 30 bisections: about {:.1f} h); drop --direct for the modal basis, "
+      "which gives the boundary of the lowest modes in seconds",
+      linear.size(), n, n, each, options.points, each * (options.points + 30) / 3600.0);
+}
+
 /// The sweep over the parameter's range (widened up to three times when no boundary shows and
 /// no --range was given), the truncation check on half the modes, the case's least stable root.
 Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::PistonTheory& theory,
@@ -72,8 +113,12 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
         fmt::format("--range {} {}: a Mach sweep must stay at or above Mach {} (piston theory's validity "
                     "limit, docs/coupling.md)",
                     r.lo, r.hi, coupling::kPistonTheoryMinMach));
+  SolveProgress progress;
+  const auto on_value = [&](int solved) { progress(solved); };
   for (int widen = 0;; ++widen) {
-    r.sweep = coupling::sweep_flutter(linear, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked);
+    r.sweep = coupling::sweep_flutter(linear, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked,
+                                      on_value);
+    progress.add(int(r.sweep.points.size()) + (r.sweep.critical ? r.sweep.critical->bisections : 0));
     if (r.sweep.critical || options.range || widen == 3) break;
     spdlog::info("no flutter boundary up to {} = {:.6g}; widening the range", coupling::to_string(options.parameter),
                  r.hi);
@@ -82,7 +127,8 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
   if (!options.direct && modes >= 4 && r.sweep.critical) {
     // Truncation check: the same sweep on the first half of the modes.
     const auto half = linear.truncated(modes / 2);
-    const auto s = coupling::sweep_flutter(half, setting, options.parameter, r.lo, r.hi, options.points);
+    const auto s =
+        coupling::sweep_flutter(half, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, 0, on_value);
     if (s.critical) r.half_modes_critical = s.critical->value;
   }
   auto case_roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
@@ -225,6 +271,7 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
                  linear.in_vacuo_frequencies().back());
   else
     spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", linear.size());
+  if (options.direct) warn_of_dense_solves(linear, options);
   const Result r = sweep(linear, theory, setting, options, modes);
   // 3. The outputs and the plot.
   write_locus(r, outdir);

@@ -191,7 +191,8 @@ double FlutterSetting::mass_ratio_over_mach(double shell_density, double thickne
 }
 
 FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting, FlutterParameter parameter,
-                           double lo, double hi, int points, double relative_tolerance, int tracked_roots) {
+                           double lo, double hi, int points, double relative_tolerance, int tracked_roots,
+                           const std::function<void(int)>& on_value) {
   if (!(hi > lo) || points < 2)
     throw_input_error(
         "linear flutter analysis: the range [{}, {}] with {} points is empty; give lo < hi "
@@ -199,6 +200,7 @@ FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetti
         lo, hi, points);
   FlutterSweep sweep;
   sweep.parameter = parameter;
+  int solved = 0;
   const auto evaluate = [&](double value) {
     FlutterPoint p;
     p.value = value;
@@ -209,6 +211,7 @@ FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetti
     for (const auto& s : p.eigenvalues) p.scale = std::max(p.scale, std::abs(s));
     p.lambda = parameter == FlutterParameter::lambda ? value : setting.lambda_of_mach(value);
     p.mach = parameter == FlutterParameter::mach ? value : setting.mach_of_lambda(value);
+    if (on_value) on_value(++solved);
     return p;
   };
   // Unstable: a root with sigma above round-off (undamped roots below the coalescence are

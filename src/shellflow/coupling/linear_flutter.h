@@ -20,6 +20,7 @@
 // (fixed altitude): U = M sqrt(gamma p / rho).
 #include <Eigen/Core>
 #include <complex>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -115,9 +116,11 @@ struct FlutterSweep {
 /// where the least stable root becomes unstable (sigma > 1e-8 max |s|) to a relative width
 /// `relative_tolerance` of the parameter. `tracked_roots` > 0: only the that many roots of
 /// lowest frequency count (and are kept in the points) — for the full system, whose highest
-/// roots are the mesh's thickness-stretch modes.
+/// roots are the mesh's thickness-stretch modes. `on_value` (when given) is called after
+/// each eigenvalue solve with the number of values solved so far (progress on large systems).
 FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting, FlutterParameter parameter,
-                           double lo, double hi, int points, double relative_tolerance = 1e-9, int tracked_roots = 0);
+                           double lo, double hi, int points, double relative_tolerance = 1e-9, int tracked_roots = 0,
+                           const std::function<void(int)>& on_value = {});
 
 /// The panel length along `direction`: the extent of the shell's nodes.
 double panel_length(const shell::ShellModel& model, const Vec3& direction);
