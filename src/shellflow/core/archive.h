@@ -94,12 +94,6 @@ class ArchiveReader {
     const auto v = get_vector<double>();
     return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size()));
   }
-  std::vector<std::string> get_strings() {
-    const auto n = count(8);
-    std::vector<std::string> v;
-    for (std::size_t i = 0; i < n; ++i) v.push_back(get_string());
-    return v;
-  }
   /// Throws Error "`what`: `item` has N entries, this run has M" when they differ.
   void expect_size(std::string_view item, std::size_t stored, std::size_t expected) const;
   /// Throws unless every byte was read (a checkpoint of another kind of run).

@@ -92,7 +92,6 @@ class FlowModel final : public AerodynamicModel {
   std::span<const Vec3> mesh_velocity() const { return w_; }
   const mesh::Mesh& mesh() const { return mesh_; }
   const WallNodeMap& wall_map() const { return wall_; }
-  const LoadPointMap& load_map() const { return loads_; }
 
  private:
   const mesh::Mesh& mesh_;

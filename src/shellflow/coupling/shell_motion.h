@@ -41,9 +41,6 @@ class ShellStepMotion final : public motion::BoundaryMotion {
   void evaluate_time_mode(int handle, int k, std::span<Vec3> field) const override;
   void time_coefficients(double time, std::span<double> c, std::span<double> dc) const override;
 
-  double window_start() const { return t0_; }
-  double window_length() const { return dt_; }
-
  private:
   struct PointSet {
     std::vector<Index> nodes;  ///< N per point

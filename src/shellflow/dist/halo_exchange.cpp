@@ -19,12 +19,6 @@ HaloExchange::HaloExchange(const Communicator& comm, const mesh::LocalPart& part
   receive_buffers_.resize(neighbours_.size());
 }
 
-std::size_t HaloExchange::send_count() const {
-  std::size_t n = 0;
-  for (const auto& nb : neighbours_) n += nb.send.size();
-  return n;
-}
-
 void HaloExchange::exchange(std::span<double* const> fields) {
   const std::size_t nf = fields.size();
   if (nf == 0 || neighbours_.empty()) return;

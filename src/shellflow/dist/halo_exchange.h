@@ -22,8 +22,6 @@ class HaloExchange {
   void exchange(std::span<double* const> fields);
 
   std::size_t num_neighbours() const { return neighbours_.size(); }
-  /// Values sent per field and exchange (the interface of this rank).
-  std::size_t send_count() const;
 
  private:
   const Communicator& comm_;

@@ -148,8 +148,6 @@ class BoundarySet {
   /// Nodes where the far-field state is imposed (sorted), including slab nodes that also
   /// get wall/symmetry constraints afterwards.
   std::span<const Index> far_field_nodes() const { return far_nodes_; }
-  /// Nodes where the no-slip condition is imposed (after priorities), sorted.
-  std::span<const Index> no_slip_nodes() const { return no_slip_nodes_; }
   /// Constraint directions at a slip-wall/symmetry node (empty span elsewhere), orthonormal,
   /// the symmetry-plane directions first.
   std::span<const Vec3> wall_constraints(Index node) const;

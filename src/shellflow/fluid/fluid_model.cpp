@@ -408,12 +408,6 @@ void FluidModel::check_positivity(const FluidState& u, double t) const {
                   x.z(), t, s.rho, s.velocity.x(), s.velocity.y(), s.velocity.z(), s.pressure));
 }
 
-double FluidModel::total_mass() const {
-  double mass = 0.0;
-  for (std::size_t a = 0; a < std::size_t(mesh_.num_nodes()); ++a) mass += geometry_.lumped_mass[a] * state_.var[0][a];
-  return mass;
-}
-
 }  // namespace shellflow::fluid
 
 namespace shellflow::fluid {

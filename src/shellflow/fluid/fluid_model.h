@@ -220,8 +220,6 @@ class FluidModel {
   void reset_timings() { timings_ = {}; }
   /// Bytes held by the model's arrays (mesh copy, geometry, states, work arrays).
   std::size_t memory_bytes() const;
-  /// Total mass sum_a M_a rho_a (diagnostic; not exactly conserved on deforming meshes).
-  double total_mass() const;
 
  private:
   /// Ghost entries of the state from their owners (a distributed model; else nothing).

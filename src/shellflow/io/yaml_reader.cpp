@@ -169,8 +169,6 @@ SourceLocation YamlNode::location(std::string_view key) const {
 
 std::string YamlNode::path_of(std::string_view key) const { return impl_->path_of(key); }
 
-bool YamlNode::is_map() const { return impl_->node.IsMap(); }
-bool YamlNode::is_list() const { return impl_->node.IsSequence(); }
 bool YamlNode::is_scalar() const { return impl_->node.IsScalar(); }
 bool YamlNode::is_null() const { return impl_->node.IsNull(); }
 const YAML::Node& YamlNode::yaml() const { return impl_->node; }

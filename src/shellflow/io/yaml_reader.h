@@ -121,8 +121,6 @@ class YamlNode {
   /// Key path of `key` below this node: `shell` + `thickness` -> `shell.thickness`.
   std::string path_of(std::string_view key) const;
 
-  bool is_map() const;
-  bool is_list() const;
   bool is_scalar() const;
   bool is_null() const;
   /// The underlying yaml-cpp node (escape hatch; reading through it does not mark keys read).

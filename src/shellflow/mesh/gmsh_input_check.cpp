@@ -263,11 +263,6 @@ struct GeoScanner {
 
 }  // namespace
 
-void check_geo_script(const fs::path& file) {
-  GeoScanner scanner{folder_of(file), {}, nullptr};
-  scanner.scan(file);
-}
-
 void check_msh_file(const fs::path& file) { check_msh_text(read_text(file), file); }
 
 namespace {

@@ -29,9 +29,6 @@ void check_gmsh_input(const std::filesystem::path& file);
 /// order met) and the option files (`FILE.opt`). The mesh cache digests their bytes.
 std::vector<std::filesystem::path> gmsh_input_files(const std::filesystem::path& file);
 
-/// Scans a Gmsh script (a `.geo`, or an option file) and what it includes or merges.
-void check_geo_script(const std::filesystem::path& file);
-
 /// Validates the structure of a `.msh` file (format 4.1 ASCII).
 void check_msh_file(const std::filesystem::path& file);
 /// The same check of a `.msh` file's text (`file` names it in messages).

@@ -476,8 +476,4 @@ double SpaceMesh::min_relative_jacobian() const {
   return min_jacobian(mesh_, current_positions(), reference_jacobian_).first;
 }
 
-Index SpaceMesh::worst_jacobian_element() const {
-  return min_jacobian(mesh_, current_positions(), reference_jacobian_).second;
-}
-
 }  // namespace shellflow::motion

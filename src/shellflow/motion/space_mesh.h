@@ -119,8 +119,6 @@ class SpaceMesh {
   /// quadrature, divided by the element's straight-sided (vertex) determinant at t = 0:
   /// 1 for an undeformed straight element, <= 0 when an element folds.
   double min_relative_jacobian() const;
-  /// The element with that smallest value.
-  Index worst_jacobian_element() const;
 
  private:
   mesh::Mesh mesh_;

@@ -237,8 +237,6 @@ class ShellModel {
   void set_point_traction(std::span<const Vec3> traction);
   /// Removes the point pressures and point tractions.
   void clear_point_loads();
-  const std::vector<double>& point_pressure() const { return point_pressure_; }
-  const std::vector<Vec3>& point_traction() const { return point_traction_; }
 
   /// A matrix with the model's sparsity pattern (all node pairs of an element, 7x7 blocks).
   SparseMatrix make_matrix() const;
