@@ -1,6 +1,8 @@
 // `shellflow check`: validate a case file without running it.
 #include <fmt/format.h>
 
+#include <CLI/CLI.hpp>
+
 #include "commands.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/mesh/gmsh_input_check.h"
@@ -20,6 +22,14 @@ int check_command(const CommonOptions& options) {
   fmt::print("{}: OK (case '{}': {} mesh(es), {} physical-group reference(s), {} probe(s))\n",
              options.case_file.string(), c.name, meshes, c.group_references.size(), c.probes.size());
   return 0;
+}
+
+Command add_check_command(CLI::App& cli, CommonOptions& common) {
+  auto* sub = cli.add_subcommand("check",
+                                 "Validate a case file (keys, types, ranges, files, physical groups) without "
+                                 "running it");
+  add_case_options(sub, common);
+  return {sub, [&common] { return check_command(common); }};
 }
 
 }  // namespace shellflow::app

@@ -4,11 +4,15 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <Eigen/Eigenvalues>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <numbers>
 
 #include "commands.h"
@@ -291,6 +295,53 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
                 options.json);
   }
   return 0;
+}
+
+Command add_flutter_command(CLI::App& cli, CommonOptions& common) {
+  auto options = std::make_shared<FlutterOptions>();
+  auto* sub =
+      cli.add_subcommand("flutter",
+                         "Linear flutter analysis: the case's shell linearised about its reference state with "
+                         "first-order piston theory at the case's free stream; root locus against lambda = "
+                         "rho U^2 a^3/(beta D) or Mach, the critical point (flutter_locus.csv, flutter.json, "
+                         "flutter_locus.png), the first in-vacuo modes and the flutter mode (flutter_modes.vtu, "
+                         "flutter_modes.png); see docs/flutter.md");
+  add_case_options(sub, common);
+  add_output_options(sub, common);
+  sub->add_option("--parameter", options->parameter,
+                  "lambda: sweep lambda at the case's density and Mach; mach: sweep Mach at the case's "
+                  "density and pressure")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, coupling::FlutterParameter>{
+          {"lambda", coupling::FlutterParameter::lambda}, {"mach", coupling::FlutterParameter::mach}}));
+  sub->add_option("--range", options->range,
+                  "LO HI of the parameter (default: lambda 0..max(1000, 2 lambda_case), Mach "
+                  "1.2..max(3, 2 M_case), widened up to 8x until a boundary is found)")
+      ->check(finite_number());
+  sub->add_option("--points", options->points,
+                  "Parameter values of the sweep (the boundary is then "
+                  "bisected)")
+      ->check(CLI::Range(2, 100000));
+  sub->add_option("--modes", options->modes,
+                  "In-vacuo modes of the reduced basis, 2 to 400 (flutter is the coalescence of two modes)")
+      ->check(CLI::Validator(
+          [](const std::string& text) -> std::string {
+            int n = 0;
+            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
+            if (ec != std::errc() || end != text.data() + text.size() || n < 2 || n > 400)
+              return "expected a whole number of modes from 2 to 400 (flutter is the coalescence of two modes; "
+                     "the default is 24), got '" +
+                     text + "'";
+            return {};
+          },
+          "INT in [2, 400]"));
+  sub->add_flag("--direct", options->direct,
+                "Solve the full system (every free dof) instead of the modal basis: dense, O(n^3) per "
+                "value; for checking the basis on small meshes");
+  sub->add_flag("--no-aero-damping", options->no_aerodynamic_damping,
+                "Drop the aerodynamic damping (mu/M -> 0: the classical coalescence boundary)");
+  sub->add_flag("--json", options->json,
+                "Print one JSON object on stdout (lambda_cr, mach_cr, frequency_hz, ...) and nothing else");
+  return {sub, [&common, options] { return flutter_command(common, *options); }};
 }
 
 }  // namespace shellflow::app

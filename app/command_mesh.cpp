@@ -2,7 +2,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -81,6 +83,20 @@ int mesh_command(const CommonOptions& options, bool json) {
   // With --json, stdout carries the JSON object only: the plot script's messages go to stderr.
   if (options.plot) make_plot("plot_mesh.py", {outdir.string()}, json);
   return 0;
+}
+
+Command add_mesh_command(CLI::App& cli, CommonOptions& common) {
+  auto json = std::make_shared<bool>(false);
+  auto* sub = cli.add_subcommand("mesh",
+                                 "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
+                                 "<mesh>.vtu, print sizes and quality (and, for a coupled case with a flow, the wet "
+                                 "wall's cells per lambda_x/M, docs/fluid.md), plot the meshes");
+  add_case_options(sub, common);
+  add_output_options(sub, common);
+  sub->add_flag("--json", *json,
+                "Print one JSON object: per mesh nodes, elements, element_type, min_quality; for a coupled case "
+                "with a flow, \"wet_wall\": the wet wall's cells per lambda_x/M of the shell's first two modes");
+  return {sub, [&common, json] { return mesh_command(common, *json); }};
 }
 
 }  // namespace shellflow::app

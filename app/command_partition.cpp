@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -84,6 +86,20 @@ int partition_command(const CommonOptions& options, int parts) {
   std::fflush(stdout);
   spdlog::info("wrote {}: partition.json, partition.vtu", outdir.string());
   return 0;
+}
+
+Command add_partition_command(CLI::App& cli, CommonOptions& common) {
+  auto parts = std::make_shared<int>(0);
+  auto* sub = cli.add_subcommand("partition",
+                                 "Split the case's fluid mesh into parts (METIS) as a distributed run would: "
+                                 "print each part's owned and ghost nodes and cells, neighbours and interface "
+                                 "nodes, the halo share and the imbalance; write partition.json and "
+                                 "partition.vtu (cell field rank, point field owner)");
+  add_case_options(sub, common);
+  sub->add_option("-o,--output", common.output_dir,
+                  "Output directory (default: the case's output.directory, else out/<name>)");
+  sub->add_option("--parts", *parts, "Number of parts (ranks)")->required()->check(CLI::Range(1, 1 << 24));
+  return {sub, [&common, parts] { return partition_command(common, *parts); }};
 }
 
 }  // namespace shellflow::app

@@ -8,9 +8,11 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <memory>
 #include <optional>
 
 #include "commands.h"
@@ -218,6 +220,24 @@ int study_command(const CommonOptions& common, const StudyOptions& options) {
                             result.points.size(), io::to_string(s.parameter), result.points.front().value,
                             result.points.front().message, (outdir / "study.csv").string()));
   return 0;
+}
+
+Command add_study_command(CLI::App& cli, CommonOptions& common) {
+  auto options = std::make_shared<StudyOptions>();
+  auto* sub =
+      cli.add_subcommand("study",
+                         "Parameter study of a coupled case (its 'study' section: Mach, density, dynamic pressure "
+                         "or thickness over a range): one run per point, growth rates from response.json, the "
+                         "stability boundary bracketed and refined; study.csv, study.json, study_growth.png, "
+                         "study_lco.png; finished points are not rerun");
+  add_case_options(sub, common);
+  add_output_options(sub, common);
+  sub->add_option("-j,--jobs", options->jobs,
+                  "Runs at once, one process each (each with one OpenMP thread "
+                  "when > 1 unless OMP_NUM_THREADS is set)")
+      ->check(CLI::Range(1, 256));
+  sub->add_flag("--json", options->json, "Print study.json on stdout and nothing else");
+  return {sub, [&common, options] { return study_command(common, *options); }};
 }
 
 }  // namespace shellflow::app

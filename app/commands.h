@@ -1,7 +1,9 @@
 #pragma once
-// The subcommands of `shellflow`. Each returns the process exit code and throws
+// The subcommands of `shellflow`. Each command_*.cpp defines its subcommand's options
+// (add_*_command) and runs it (*_command); a run returns the process exit code and throws
 // shellflow::Error for anything the user must fix (caught and printed once in main).
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -12,6 +14,11 @@
 #include "shellflow/run/output_dir.h"
 #include "shellflow/run/run_control.h"
 
+namespace CLI {
+class App;
+class Validator;
+}  // namespace CLI
+
 namespace shellflow::app {
 
 struct CommonOptions {
@@ -21,6 +28,26 @@ struct CommonOptions {
   std::vector<std::string> overrides;               ///< --set KEY=VALUE, applied to the case file
   const dist::Communicator* ranks = nullptr;        ///< started by mpirun with several ranks
 };
+
+/// A subcommand of the command line: its CLI11 definition and what runs it once parsed (with the
+/// options it owns).
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+/// The case file and its --set overrides, of every subcommand.
+void add_case_options(CLI::App* sub, CommonOptions& common);
+/// -o and --no-plot.
+void add_output_options(CLI::App* sub, CommonOptions& common);
+/// A check that a number of the command line is finite (nan and inf pass CLI's own checks).
+const CLI::Validator& finite_number();
+
+Command add_run_command(CLI::App& cli, CommonOptions& common);
+Command add_check_command(CLI::App& cli, CommonOptions& common);
+Command add_mesh_command(CLI::App& cli, CommonOptions& common);
+Command add_partition_command(CLI::App& cli, CommonOptions& common);
+Command add_flutter_command(CLI::App& cli, CommonOptions& common);
+Command add_study_command(CLI::App& cli, CommonOptions& common);
 
 using run::kSolverFailedExitCode;
 using run::kStoppedExitCode;

@@ -6,23 +6,24 @@
 //                   [--stop-at-wall S] [--restart OUTDIR[/checkpoint_NNNNNN.ckpt]]
 //   shellflow flutter cases/panel_flutter/clamped_clamped_piston.yaml [--parameter mach] [--json]
 //   shellflow partition cases/panel_flutter/clamped_clamped.yaml --parts N [-o OUTDIR]
+//   shellflow study cases/panel_flutter/clamped_clamped_piston.yaml [-j N] [--json]
 //
 // Every error the user can fix is printed as one line `shellflow: error: ...` and the
 // exit code is 1 (2 for a bad command line); a run the physics stopped (a SolverError: Newton
 // gave up, a negative density, an inverted element) exits with 4; a run stopped with a
-// checkpoint (--stop-after, --stop-at-wall, SIGINT/SIGTERM) exits with 75.
+// checkpoint (--stop-after, --stop-at-wall, SIGINT/SIGTERM/SIGUSR1) exits with 75.
+#include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <charconv>
-#include <cmath>
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <exception>
-#include <map>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "commands.h"
 #include "shellflow/core/error.h"
@@ -34,15 +35,56 @@
 
 namespace {
 
-/// The rank count and this process's rank as OpenMPI's or MPICH's launcher sets them (1 and 0
-/// without a launcher).
-long launcher_value(const char* openmpi, const char* mpich, long fallback) {
-  for (const char* name : {openmpi, mpich})
-    if (const char* value = std::getenv(name)) return std::atol(value);
-  return fallback;
+/// The rank count as OpenMPI's or MPICH's launcher sets it in the environment (1 without one).
+int launcher_ranks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* value = std::getenv(name)) return int(std::clamp(std::atol(value), 0L, 1L << 24));
+  return 1;
 }
-int launcher_ranks() { return int(launcher_value("OMPI_COMM_WORLD_SIZE", "PMI_SIZE", 1)); }
-int launcher_rank() { return int(launcher_value("OMPI_COMM_WORLD_RANK", "PMI_RANK", 0)); }
+
+/// Why a process the environment calls one of `launched` MPI ranks cannot go on ("" when it
+/// can): MPI disagrees (the variables are left over, no launcher started it), or the command
+/// does not run on ranks (said by rank 0; the other ranks get "" and a world of size > 1).
+std::string check_launch(int launched, bool is_run) {
+  const shellflow::dist::Communicator& world = shellflow::dist::Communicator::world();
+  if (world.size() != launched)
+    return fmt::format(
+        "the environment says this process is one of {} MPI ranks (OMPI_COMM_WORLD_SIZE or PMI_SIZE) but MPI "
+        "started {}: no launcher started it; start it with 'mpirun -np {}', or unset those variables to run it as "
+        "one process",
+        launched, world.size(), launched);
+  if (!is_run && world.rank() == 0)
+    return fmt::format(
+        "started as {} MPI ranks; only 'shellflow run' runs on several ranks (docs/parallel.md): run this command "
+        "without mpirun",
+        launched);
+  return {};
+}
+
+/// How a command ended: its exit code and, for an error, the line to print.
+struct Outcome {
+  int code = 0;
+  std::string message = {};
+  bool internal = false;  ///< not an error the user can fix (exit code 3)
+};
+
+/// Runs the parsed subcommand; its exit code, or the error it ended with.
+Outcome run_command(const std::vector<shellflow::app::Command>& commands) {
+  using namespace shellflow;
+  try {
+    // A bad SHELLFLOW_SIMD is refused before anything is read or meshed.
+    spdlog::debug("element pass: {}", fluid::to_string(fluid::simd_path()));
+    for (const app::Command& command : commands)
+      if (command.app->parsed()) return {command.run(), {}, false};
+  } catch (const SolverError& e) {
+    return {app::kSolverFailedExitCode, e.what(), false};
+  } catch (const Error& e) {
+    return {1, e.what(), false};
+  } catch (const std::exception& e) {
+    return {3, e.what(), true};
+  }
+  return {};
+}
 
 }  // namespace
 
@@ -70,167 +112,37 @@ int main(int argc, char** argv) {
       "written through a symbolic or hard link there (docs/output.md). Exit codes: 0 done; 1 an error "
       "(one line 'shellflow: error: ...'); 2 a bad command line; 3 an internal error; 4 a run the physics "
       "stopped (Newton gave up, a negative density, an inverted element); 75 stopped with a checkpoint "
-      "(--stop-after, --stop-at-wall, SIGINT, SIGTERM): continue with --restart.");
+      "(--stop-after, --stop-at-wall, SIGINT, SIGTERM, SIGUSR1): continue with --restart. Under mpirun "
+      "stop a run with SIGUSR1 to mpirun (it passes it on; SIGINT/SIGTERM make mpirun kill the ranks a second "
+      "later and exit 1; docs/parallel.md).");
   cli.fallthrough();  // -v/-q also after the subcommand
   bool verbose = false, quiet = false;
   cli.add_flag("-v,--verbose", verbose, "Print debug messages (and Gmsh's progress)");
   cli.add_flag("-q,--quiet", quiet, "Print warnings and errors only");
 
-  // nan and inf pass CLI::PositiveNumber (nan <= 0 is false): numbers of the command line are finite.
-  const CLI::Validator finite(
-      [](std::string& text) {
-        char* end = nullptr;
-        const double x = std::strtod(text.c_str(), &end);
-        return std::isfinite(x) ? std::string() : std::string("must be a finite number");
-      },
-      "FINITE");
   app::CommonOptions options;
-  bool json = false;
-  auto add_case = [&](CLI::App* sub) {
-    sub->add_option("case", options.case_file, "Case file (YAML); see docs/case-format.md")
-        ->required()
-        ->check(CLI::ExistingFile);
-    sub->add_option("--set", options.overrides,
-                    "KEY=VALUE: replace a key of the case file (dotted path, YAML value), e.g. --set "
-                    "fluid.free_stream.mach=2.1 --set time.end=0.05; repeatable")
-        ->allow_extra_args(false)
-        ->take_all();
+  const std::vector<app::Command> commands{
+      app::add_run_command(cli, options),       app::add_mesh_command(cli, options),
+      app::add_check_command(cli, options),     app::add_flutter_command(cli, options),
+      app::add_partition_command(cli, options), app::add_study_command(cli, options),
   };
-  auto add_output = [&](CLI::App* sub) {
-    sub->add_option("-o,--output", options.output_dir,
-                    "Output directory (default: the case's output.directory, else out/<name>)");
-    sub->add_flag("!--no-plot", options.plot, "Do not make the PNG plots at the end");
-  };
-
-  auto* run = cli.add_subcommand("run",
-                                 "Run a case: mesh it, integrate in time (shell, flow, mesh motion, or all coupled "
-                                 "with a 'coupling' section: panel flutter), write .vtu/.pvd fields, probes.csv and "
-                                 "plots (coupled runs: coupling.csv, mesh_quality.csv, flutter.png). Under "
-                                 "'mpirun -np N' the flow of a flow or coupled run is split over N MPI ranks "
-                                 "(METIS parts; .pvtu frames; the same numbers as one process; docs/parallel.md)");
-  add_case(run);
-  add_output(run);
-  run::StopOptions stop;
-  run->add_option("--restart", stop.restart,
-                  "OUTDIR or OUTDIR/checkpoint_NNNNNN.ckpt: continue a run from its newest (or that) checkpoint, "
-                  "in its folder, bit for bit; the case file must be the same (time.end may grow); see "
-                  "docs/restart.md");
-  run->add_option("--stop-after", stop.stop_after,
-                  "Stop after STEPS steps of this invocation with a checkpoint (exit code 75); continue with "
-                  "--restart")
-      ->check(CLI::PositiveNumber);
-  run->add_option("--stop-at-wall", stop.stop_at_wall,
-                  "Stop at the first step boundary after SECONDS of wall time with a checkpoint (exit code 75), "
-                  "e.g. before a batch queue's limit")
-      ->check(CLI::PositiveNumber & finite);
-  auto* mesh = cli.add_subcommand("mesh",
-                                  "Mesh a case's geometries (fluid, space and shell meshes): write <mesh>.msh and "
-                                  "<mesh>.vtu, print sizes and quality (and, for a coupled case with a flow, the wet "
-                                  "wall's cells per lambda_x/M, docs/fluid.md), plot the meshes");
-  add_case(mesh);
-  add_output(mesh);
-  mesh->add_flag("--json", json,
-                 "Print one JSON object: per mesh nodes, elements, element_type, min_quality; for a coupled case "
-                 "with a flow, \"wet_wall\": the wet wall's cells per lambda_x/M of the shell's first two modes");
-  auto* check = cli.add_subcommand("check",
-                                   "Validate a case file (keys, types, ranges, files, physical groups) without "
-                                   "running it");
-  add_case(check);
-
-  app::FlutterOptions flutter_options;
-  auto* flutter =
-      cli.add_subcommand("flutter",
-                         "Linear flutter analysis: the case's shell linearised about its reference state with "
-                         "first-order piston theory at the case's free stream; root locus against lambda = "
-                         "rho U^2 a^3/(beta D) or Mach, the critical point (flutter_locus.csv, flutter.json, "
-                         "flutter_locus.png), the first in-vacuo modes and the flutter mode (flutter_modes.vtu, "
-                         "flutter_modes.png); see docs/flutter.md");
-  add_case(flutter);
-  add_output(flutter);
-  flutter
-      ->add_option("--parameter", flutter_options.parameter,
-                   "lambda: sweep lambda at the case's density and Mach; mach: sweep Mach at the case's "
-                   "density and pressure")
-      ->transform(CLI::CheckedTransformer(std::map<std::string, coupling::FlutterParameter>{
-          {"lambda", coupling::FlutterParameter::lambda}, {"mach", coupling::FlutterParameter::mach}}));
-  flutter
-      ->add_option("--range", flutter_options.range,
-                   "LO HI of the parameter (default: lambda 0..max(1000, 2 lambda_case), Mach "
-                   "1.2..max(3, 2 M_case), widened up to 8x until a boundary is found)")
-      ->check(finite);
-  flutter
-      ->add_option("--points", flutter_options.points,
-                   "Parameter values of the sweep (the boundary is then "
-                   "bisected)")
-      ->check(CLI::Range(2, 100000));
-  flutter
-      ->add_option("--modes", flutter_options.modes,
-                   "In-vacuo modes of the reduced basis, 2 to 400 (flutter is the coalescence of two modes)")
-      ->check(CLI::Validator(
-          [](const std::string& text) -> std::string {
-            int n = 0;
-            const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), n);
-            if (ec != std::errc() || end != text.data() + text.size() || n < 2 || n > 400)
-              return "expected a whole number of modes from 2 to 400 (flutter is the coalescence of two modes; "
-                     "the default is 24), got '" +
-                     text + "'";
-            return {};
-          },
-          "INT in [2, 400]"));
-  flutter->add_flag("--direct", flutter_options.direct,
-                    "Solve the full system (every free dof) instead of the modal basis: dense, O(n^3) per "
-                    "value; for checking the basis on small meshes");
-  flutter->add_flag("--no-aero-damping", flutter_options.no_aerodynamic_damping,
-                    "Drop the aerodynamic damping (mu/M -> 0: the classical coalescence boundary)");
-  flutter->add_flag("--json", flutter_options.json,
-                    "Print one JSON object on stdout (lambda_cr, mach_cr, frequency_hz, ...) and nothing else");
-
-  int partition_parts = 0;
-  auto* partition = cli.add_subcommand("partition",
-                                       "Split the case's fluid mesh into parts (METIS) as a distributed run would: "
-                                       "print each part's owned and ghost nodes and cells, neighbours and interface "
-                                       "nodes, the halo share and the imbalance; write partition.json and "
-                                       "partition.vtu (cell field rank, point field owner)");
-  add_case(partition);
-  partition->add_option("-o,--output", options.output_dir,
-                        "Output directory (default: the case's output.directory, else out/<name>)");
-  partition->add_option("--parts", partition_parts, "Number of parts (ranks)")
-      ->required()
-      ->check(CLI::Range(1, 1 << 24));
-
-  app::StudyOptions study_options;
-  auto* study =
-      cli.add_subcommand("study",
-                         "Parameter study of a coupled case (its 'study' section: Mach, density, dynamic pressure "
-                         "or thickness over a range): one run per point, growth rates from response.json, the "
-                         "stability boundary bracketed and refined; study.csv, study.json, study_growth.png, "
-                         "study_lco.png; finished points are not rerun");
-  add_case(study);
-  add_output(study);
-  study
-      ->add_option("-j,--jobs", study_options.jobs,
-                   "Runs at once, one process each (each with one OpenMP thread "
-                   "when > 1 unless OMP_NUM_THREADS is set)")
-      ->check(CLI::Range(1, 256));
-  study->add_flag("--json", study_options.json, "Print study.json on stdout and nothing else");
+  const CLI::App* run = commands.front().app;  // run first
 
   CLI11_PARSE(cli, argc, argv);
   spdlog::set_level(verbose ? spdlog::level::debug : quiet ? spdlog::level::warn : spdlog::level::info);
   // Started by mpirun with several ranks (the launcher says so in the environment): `run`
   // distributes a flow over them (docs/parallel.md); MPI is started for that only, so a plain
-  // `shellflow run` is one process without MPI. Rank 0 alone logs, prints errors and writes the
-  // output folder (core/output_file.h).
+  // `shellflow run` is one process without MPI. The rank and the rank count are MPI's. Rank 0
+  // alone logs, prints errors and writes the output folder (core/output_file.h).
   const int launched_ranks = launcher_ranks();
+  if (*run) run::arm_stop_signals();  // a signal during set-up stops the run, it does not kill it
   bool print_errors = true;
   if (launched_ranks > 1) {
-    if (!*run) {
-      if (launcher_rank() == 0)
-        std::fprintf(stderr,
-                     "shellflow: error: started as %d MPI ranks; only 'shellflow run' runs on several ranks "
-                     "(docs/parallel.md): run this command without mpirun\n",
-                     launched_ranks);
+    if (const std::string why = check_launch(launched_ranks, bool(*run)); !why.empty()) {
+      std::fprintf(stderr, "shellflow: error: %s\n", why.c_str());
       return 1;
     }
+    if (!*run) return 1;  // rank 0 said why
     options.ranks = &dist::Communicator::world();
     if (options.ranks->rank() != 0) {
       set_process_writes_files(false);
@@ -238,24 +150,17 @@ int main(int argc, char** argv) {
       print_errors = false;
     }
   }
-  try {
-    // A bad SHELLFLOW_SIMD is refused before anything is read or meshed.
-    spdlog::debug("element pass: {}", fluid::to_string(fluid::simd_path()));
-    if (*run) return app::run_command(options, stop);
-    if (*mesh) return app::mesh_command(options, json);
-    if (*check) return app::check_command(options);
-    if (*flutter) return app::flutter_command(options, flutter_options);
-    if (*study) return app::study_command(options, study_options);
-    if (*partition) return app::partition_command(options, partition_parts);
-  } catch (const SolverError& e) {
-    if (print_errors) std::fprintf(stderr, "shellflow: error: %s\n", e.what());
-    return app::kSolverFailedExitCode;
-  } catch (const Error& e) {
-    if (print_errors) std::fprintf(stderr, "shellflow: error: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    if (print_errors) std::fprintf(stderr, "shellflow: internal error: %s\n", e.what());
-    return 3;
+  const Outcome outcome = run_command(commands);
+  if (outcome.code == 0 || outcome.code == app::kStoppedExitCode) return outcome.code;
+  // An error on ranks: when every rank leaves with it (the errors they agree on), rank 0 says
+  // it; when a rank is left waiting for this one (an error only it saw), this rank says it and
+  // ends the job, so that no rank hangs.
+  if (options.ranks && !options.ranks->all_leave_within(10.0)) {
+    std::fprintf(stderr, "shellflow: %s: rank %d: %s\n", outcome.internal ? "internal error" : "error",
+                 options.ranks->rank(), outcome.message.c_str());
+    options.ranks->abort_job(outcome.code);
   }
-  return 0;
+  if (print_errors)
+    std::fprintf(stderr, "shellflow: %s: %s\n", outcome.internal ? "internal error" : "error", outcome.message.c_str());
+  return outcome.code;
 }

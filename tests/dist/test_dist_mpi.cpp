@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -123,6 +124,28 @@ TEST(Errors, AnErrorOnOneRankReachesEveryRankAsTheSameLine) {
   // Two ranks with an error: the lowest one's message.
   const std::string two = comm.rank() >= comm.size() - 2 ? "error of rank " + std::to_string(comm.rank()) : "";
   EXPECT_EQ(comm.first_error(two), "error of rank " + std::to_string(std::max(0, comm.size() - 2)));
+}
+
+TEST(Errors, RanksLeavingTogetherAgreeAndARankLeftAloneFindsOut) {
+  Communicator& comm = Communicator::world();
+  // Every rank on its way out: they agree at once.
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_TRUE(comm.all_leave_within(10.0));
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+  if (comm.size() == 1) return;
+  // The last rank leaves alone while the others wait in a collective of the run: it finds out
+  // within its wait, and the collective it left them in is not disturbed.
+  const int alone = comm.size() - 1;
+  if (comm.rank() == alone) {
+    EXPECT_FALSE(comm.all_leave_within(0.3));
+  }
+  comm.barrier();  // the run's collective (the others waited here)
+  // The ranks that did not take part join its exit barrier now, so that it completes and the
+  // next test starts clean.
+  if (comm.rank() != alone) {
+    EXPECT_TRUE(comm.all_leave_within(10.0));
+  }
+  comm.barrier();
 }
 
 }  // namespace

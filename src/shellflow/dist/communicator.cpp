@@ -4,6 +4,10 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <thread>
 
 #include "shellflow/core/error.h"
 
@@ -40,6 +44,9 @@ Communicator::Communicator() {
   }
   check(MPI_Comm_rank(MPI_COMM_WORLD, &rank_), "MPI_Comm_rank");
   check(MPI_Comm_size(MPI_COMM_WORLD, &size_), "MPI_Comm_size");
+  static MPI_Comm exit_comm = MPI_COMM_NULL;
+  if (exit_comm == MPI_COMM_NULL) check(MPI_Comm_dup(MPI_COMM_WORLD, &exit_comm), "MPI_Comm_dup");
+  exit_comm_ = &exit_comm;
 }
 
 Communicator& Communicator::world() {
@@ -102,6 +109,26 @@ void Communicator::broadcast(std::string& text, int root) const {
   check(MPI_Bcast(&length, 1, MPI_LONG, root, MPI_COMM_WORLD), "MPI_Bcast (length)");
   text.resize(std::size_t(length));
   if (length > 0) check(MPI_Bcast(text.data(), int(length), MPI_CHAR, root, MPI_COMM_WORLD), "MPI_Bcast");
+}
+
+bool Communicator::all_leave_within(double seconds) const {
+  MPI_Comm comm = *static_cast<MPI_Comm*>(exit_comm_);
+  MPI_Request request = MPI_REQUEST_NULL;
+  check(MPI_Ibarrier(comm, &request), "MPI_Ibarrier");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  for (;;) {
+    int done = 0;
+    check(MPI_Test(&request, &done, MPI_STATUS_IGNORE), "MPI_Test");
+    if (done) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;  // the request is left: the job ends
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+}
+
+void Communicator::abort_job(int code) const {
+  std::fflush(nullptr);
+  MPI_Abort(MPI_COMM_WORLD, code);
+  std::_Exit(code);  // MPI_Abort does not return; should it, the process still ends
 }
 
 void Communicator::barrier() const { check(MPI_Barrier(MPI_COMM_WORLD), "MPI_Barrier"); }

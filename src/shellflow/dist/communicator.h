@@ -46,10 +46,20 @@ class Communicator {
   /// left waiting in a collective).
   std::string first_error(const std::string& mine) const;
 
+  /// Called on the way out of the process with an error: whether every rank reaches this
+  /// call within `seconds` (an error they agreed on: they end together). False when some rank
+  /// does not come (it waits in a collective for this one, or finished): the caller then ends
+  /// the job with abort_job(). Matched on a communicator of its own, so a rank still waiting
+  /// in a collective of the run is not disturbed.
+  bool all_leave_within(double seconds) const;
+  /// Ends every rank of the job (MPI_Abort) with `code`; the launcher reports it.
+  [[noreturn]] void abort_job(int code) const;
+
  private:
   Communicator();
   int rank_ = 0;
   int size_ = 1;
+  void* exit_comm_ = nullptr;  ///< MPI_Comm of all_leave_within (a duplicate of the world)
 };
 
 /// Entries owned by one rank each, made known to every rank: entry k (`components` values

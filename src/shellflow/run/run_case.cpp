@@ -1,7 +1,10 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <chrono>
+#include <string>
+#include <vector>
 
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/run/run.h"
@@ -52,8 +55,9 @@ void run_kind(const RunContext& run) {
   }
 }
 
-/// What a run on several ranks can do (docs/parallel.md): a flow run; refused with one line,
-/// the same on every rank, before anything is written.
+/// What a run on several ranks can do (docs/parallel.md): a flow run or a coupled run. A
+/// mesh-motion run, a shell run or a case without an analysis is refused with one line, the
+/// same on every rank, before anything is written.
 void check_distributable(const io::Case& c, const RunOptions& options) {
   const int n = options.ranks->size();
   const char* kind = c.motion && !c.coupling                          ? "a mesh-motion run"
@@ -66,12 +70,64 @@ void check_distributable(const io::Case& c, const RunOptions& options) {
         c.file.string(), kind, n));
 }
 
+/// `text` split at `sep`.
+std::vector<std::string> split(const std::string& text, char sep) {
+  std::vector<std::string> out;
+  std::size_t from = 0;
+  for (std::size_t at; (at = text.find(sep, from)) != std::string::npos; from = at + 1)
+    out.push_back(text.substr(from, at - from));
+  out.push_back(text.substr(from));
+  return out;
+}
+
+/// Every rank runs rank 0's case into rank 0's folder: a rank whose case differs (a stale
+/// copy of the case file on its node, other --set options on its part of an MPMD line) or
+/// whose -o or --restart differs is refused with one line, the same on every rank.
+void check_same_run_on_every_rank(const io::Case& c, const RunOptions& options) {
+  const dist::Communicator& ranks = *options.ranks;
+  std::string digests;
+  for (const io::SectionDigest& d : c.digests) digests += fmt::format("{}={:016x};", d.name, d.digest);
+  const auto path_of = [](const std::optional<std::filesystem::path>& p) { return p ? p->string() : std::string("-"); };
+  std::string mine = digests + '\n' + path_of(options.output_dir) + '\n' + path_of(options.stop.restart);
+  std::string first = mine;
+  ranks.broadcast(first);
+  std::string why;
+  if (mine != first) {
+    const std::vector<std::string> a = split(mine, '\n'), b = split(first, '\n');
+    if (a.at(0) != b.at(0)) {
+      const std::vector<std::string> sa = split(a[0], ';'), sb = split(b[0], ';');
+      std::string section = "its sections";
+      for (std::size_t i = 0; i < std::max(sa.size(), sb.size()); ++i)
+        if (i >= sa.size() || i >= sb.size() || sa[i] != sb[i]) {
+          section = "section '" + split(i < sa.size() ? sa[i] : sb[i], '=').at(0) + "'";
+          break;
+        }
+      why = fmt::format(
+          "{}: rank {} read another case than rank 0 ({} differ(s): a stale copy of the case file on its node, or "
+          "other --set options on its part of the command line); every rank must run the same case",
+          c.file.string(), ranks.rank(), section);
+    } else if (a.at(1) != b.at(1)) {
+      why = fmt::format(
+          "rank {} was given -o {}, rank 0 -o {}: every rank must write to the same folder; give them "
+          "the same -o",
+          ranks.rank(), a[1], b[1]);
+    } else {
+      why = fmt::format("rank {} was given --restart {}, rank 0 --restart {}: give every rank the same --restart",
+                        ranks.rank(), a.at(2), b.at(2));
+    }
+  }
+  if (const std::string first_why = ranks.first_error(why); !first_why.empty()) throw InputError(first_why);
+}
+
 }  // namespace
 
 int run_case(const io::Case& c, const RunOptions& options) {
   const dist::Communicator* ranks = options.ranks;
   const bool root = !ranks || ranks->rank() == 0;
-  if (ranks) check_distributable(c, options);
+  if (ranks) {
+    check_same_run_on_every_rank(c, options);
+    check_distributable(c, options);
+  }
   // 1. The output folder and the meshes, from the folder's mesh cache while their inputs are
   // unchanged (a restart reads the cache but saves nothing: the folder keeps the run's own).
   // On ranks, rank 0 makes the folder and meshes; the others then read its mesh cache.
@@ -99,6 +155,15 @@ int run_case(const io::Case& c, const RunOptions& options) {
   const std::filesystem::path& outdir = folder.path;
   spdlog::info("case '{}' -> {}{}", c.name, outdir.string(),
                ranks ? fmt::format(" ({} MPI ranks)", ranks->size()) : std::string());
+  // A stop signal during the meshing: stop before the solvers are built (no step was made, so
+  // no checkpoint is needed; the meshes stay in the folder's cache for the next start).
+  if (stop_signal_received(ranks)) {
+    spdlog::warn(
+        "stopped on a signal during the set-up, before the first step: nothing to checkpoint; run the "
+        "same command again to {}",
+        options.stop.restart ? "continue from " + checkpoint->file.string() : std::string("start the run"));
+    return kStoppedExitCode;
+  }
   // 2. The checkpoint control; only now, with the case read and meshed, the earlier run's
   // output goes (a case with an error keeps the old results; not for `study`, whose folder
   // holds the points of a study to resume).

@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 namespace {
 
 volatile std::sig_atomic_t g_stop_signal = 0;
-timespec g_first_signal{};  // when the first one came (CLOCK_MONOTONIC)
+bool g_armed_for_the_process = false;  // arm_stop_signals()
+timespec g_first_signal{};             // when the first one came (CLOCK_MONOTONIC)
 
 extern "C" void on_stop_signal(int sig) {
   timespec now{};
@@ -42,6 +43,7 @@ extern "C" void on_stop_signal(int sig) {
   constexpr char message[] =
       "\nshellflow: stopping after the current step with a checkpoint (signal again after a second to stop at "
       "once)\n";
+  if (!process_writes_files()) return;  // ranks other than 0 (one line per job)
   [[maybe_unused]] const auto n = ::write(STDERR_FILENO, message, sizeof(message) - 1);
 }
 
@@ -49,7 +51,27 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+void install_stop_handler(struct sigaction* old_int, struct sigaction* old_term, struct sigaction* old_usr1) {
+  struct sigaction action {};
+  action.sa_handler = on_stop_signal;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, old_int);
+  sigaction(SIGTERM, &action, old_term);
+  sigaction(SIGUSR1, &action, old_usr1);
+}
+
 }  // namespace
+
+void arm_stop_signals() {
+  if (g_armed_for_the_process) return;
+  install_stop_handler(nullptr, nullptr, nullptr);
+  g_armed_for_the_process = true;
+}
+
+bool stop_signal_received(const dist::Communicator* ranks) {
+  const bool here = g_stop_signal != 0;
+  return ranks ? ranks->any(here) : here;
+}
 
 std::chrono::steady_clock::time_point process_start() {
   static const auto start = std::chrono::steady_clock::now();
@@ -118,13 +140,9 @@ RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options, 
 }
 
 void RunControl::arm_signals() {
-  if (armed_) return;
+  if (armed_ || g_armed_for_the_process) return;  // armed for the process: a signal of the set-up counts
   g_stop_signal = 0;
-  struct sigaction action {};
-  action.sa_handler = on_stop_signal;
-  sigemptyset(&action.sa_mask);
-  sigaction(SIGINT, &action, &old_int_);
-  sigaction(SIGTERM, &action, &old_term_);
+  install_stop_handler(&old_int_, &old_term_, &old_usr1_);
   armed_ = true;
 }
 
@@ -132,6 +150,7 @@ RunControl::~RunControl() {
   if (!armed_) return;
   sigaction(SIGINT, &old_int_, nullptr);
   sigaction(SIGTERM, &old_term_, nullptr);
+  sigaction(SIGUSR1, &old_usr1_, nullptr);
 }
 
 void RunControl::not_time_stepping(std::string_view what) const {
@@ -234,6 +253,7 @@ void RunControl::mark_stopped(long step, double time) {
 std::string RunControl::stopped_message(const fs::path& case_file) const {
   const char* why = g_stop_signal == SIGINT    ? "on SIGINT"
                     : g_stop_signal == SIGTERM ? "on SIGTERM"
+                    : g_stop_signal == SIGUSR1 ? "on SIGUSR1"
                     : options_.stop_after && *stopped_step_ - first_step() + 1 >= *options_.stop_after
                         ? "after --stop-after steps"
                         : "at --stop-at-wall";

@@ -31,6 +31,17 @@ namespace shellflow::run {
 /// SIGINT/SIGTERM): EX_TEMPFAIL, "try again later".
 inline constexpr int kStoppedExitCode = 75;
 
+/// Installs the SIGINT/SIGTERM/SIGUSR1 handler of RunControl for the rest of the process
+/// (`shellflow run` does first thing): a signal during the set-up is kept, and the run stops at
+/// the first point that can stop (after the meshing, or the first step boundary) instead of
+/// dying where it stands. SIGUSR1 is the stop signal of MPI jobs: mpirun passes it on to every
+/// rank and lets the job end with the ranks' exit code (75), where SIGINT/SIGTERM make it kill
+/// the ranks a second later and exit 1 (docs/parallel.md).
+void arm_stop_signals();
+/// Whether a stop signal came, on any of `ranks` (null: this process); every rank calls it at
+/// the same point.
+bool stop_signal_received(const dist::Communicator* ranks);
+
 /// The exit code of a run the physics stopped (a SolverError: Newton gave up, a negative
 /// density, an inverted element): a result of the case, where exit code 1 is an input or
 /// system error. A study records the first as a failed point and reruns the second.
@@ -85,7 +96,7 @@ class RunControl {
   /// A run that does not step in time (static, modal): Error on a restart, a warning for
   /// the stop and checkpoint options (`what`: "a static analysis").
   void not_time_stepping(std::string_view what) const;
-  /// Installs the SIGINT/SIGTERM handlers (the time loop does, when it starts): a first
+  /// Installs the SIGINT/SIGTERM/SIGUSR1 handlers (the time loop does, when it starts): a first
   /// signal stops the run at the next step boundary with a checkpoint, a second one more
   /// than a second later ends it at once (one within a second is the same request twice).
   /// The destructor puts the previous handlers back.
@@ -125,7 +136,7 @@ class RunControl {
   bool armed_ = false;
   bool restored_ = false;
   struct sigaction old_int_ {
-  }, old_term_{};
+  }, old_term_{}, old_usr1_{};
 };
 
 /// The time the program started (main calls it first): --stop-at-wall counts from it.
