@@ -11,8 +11,9 @@ namespace shellflow::io {
 
 class PlotRunner {
  public:
-  /// `python`: the interpreter to run (the app passes its SHELLFLOW_PYTHON). `output_to_stderr`:
-  /// the scripts' stdout goes to stderr (for commands whose stdout is JSON).
+  /// `python`: the interpreter to run (run/output_dir.cpp passes the SHELLFLOW_PYTHON it is
+  /// built with). `output_to_stderr`: the scripts' stdout goes to stderr (for commands whose
+  /// stdout is JSON).
   explicit PlotRunner(std::filesystem::path python, bool output_to_stderr = false);
 
   /// Queues `tools/<script> args...` (e.g. "plot_probes.py", {"out/probes.csv", "-o",
