@@ -129,6 +129,11 @@ CATALOGUE = [
     # ---- the environment ----
     Entry("simd_unknown_instruction_set", base=SOD, command="run", env={"SHELLFLOW_SIMD": "avx9"},
           expect=["environment variable SHELLFLOW_SIMD", "'avx9'"], fix="use auto, sse2, avx2, avx2-fma or avx512"),
+    # Launcher variables left over, no launcher: MPI starts one rank (issue 39).
+    Entry("mpi_ranks_from_the_environment_run", base=PISTON, command="run", env={"OMPI_COMM_WORLD_SIZE": "2"},
+          expect=["one of 2 MPI ranks", "but MPI started 1"], fix="start it with 'mpirun -np 2', or unset"),
+    Entry("mpi_ranks_from_the_environment_check", base=PISTON, command="check", env={"PMI_SIZE": "3"},
+          expect=["one of 3 MPI ranks", "but MPI started 1"], fix="start it with 'mpirun -np 3', or unset"),
     # ---- issue 14's classes: .geo commands, damaged and hostile .msh files, malformed YAML ----
     Entry("geo_system_command", files={"strip.geo": "Point(1) = {0, 0, 0};\nSystem \"touch INJECTED\";\n"},
           text="name: s\nmeshes:\n  shell: { geo: strip.geo }\n",
