@@ -5,7 +5,6 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <Eigen/Eigenvalues>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -81,16 +80,11 @@ class SolveProgress {
 };
 
 /// A warning before a dense solve that will take long: the full system (--direct) is one
-/// dense nonsymmetric eigenvalue problem of twice its dofs per value, O(n^3); the time is
-/// estimated from a solve of 200 x 200 timed here.
+/// dense nonsymmetric eigenvalue problem of twice its dofs per value, O(n^3).
 void warn_of_dense_solves(const coupling::LinearFlutterSystem& linear, const FlutterOptions& options) {
   const Eigen::Index n = 2 * linear.size();
   if (n < 2000) return;
-  const Eigen::MatrixXd probe = Eigen::MatrixXd::Random(200, 200);
-  const auto t0 = std::chrono::steady_clock::now();
-  const Eigen::EigenSolver<Eigen::MatrixXd> es(probe, false);
-  const double t200 = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const double each = t200 * std::pow(double(n) / 200.0, 3);
+  const double each = coupling::dense_eigenvalue_seconds(n);
   spdlog::warn(
       "--direct: the full system has {} dofs, a dense {} x {} eigenvalue problem per value (O(n^3), about {:.0f} s "
       "each on this machine; {} points and about 30 bisections: about {:.1f} h); drop --direct for the modal basis, "

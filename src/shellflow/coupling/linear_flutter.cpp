@@ -6,6 +6,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -248,6 +249,14 @@ FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetti
     break;
   }
   return sweep;
+}
+
+double dense_eigenvalue_seconds(Eigen::Index n) {
+  const Eigen::MatrixXd probe = Eigen::MatrixXd::Random(200, 200);
+  const auto t0 = std::chrono::steady_clock::now();
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(probe, false);
+  const double t200 = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return t200 * std::pow(double(n) / 200.0, 3);
 }
 
 double panel_length(const shell::ShellModel& model, const Vec3& direction) {

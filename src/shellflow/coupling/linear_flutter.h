@@ -122,6 +122,10 @@ FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetti
                            double lo, double hi, int points, double relative_tolerance = 1e-9, int tracked_roots = 0,
                            const std::function<void(int)>& on_value = {});
 
+/// The seconds one dense nonsymmetric eigenvalue solve (values only) of size n x n takes on
+/// this machine: a 200 x 200 solve timed here, scaled by (n / 200)^3.
+double dense_eigenvalue_seconds(Eigen::Index n);
+
 /// The panel length along `direction`: the extent of the shell's nodes.
 double panel_length(const shell::ShellModel& model, const Vec3& direction);
 
