@@ -139,10 +139,16 @@ inline double clamped_beta(int m) {
 ///   phi = cosh(b xi) - cos(b xi) - sigma (sinh(b xi) - sin(b xi)),  sigma = (cosh b - cos b) / (sinh b - sin b),
 /// evaluated without cancellation as phi = (1+sigma)/2 e^{-b xi} + c1 e^{-b (1-xi)} - cos(b xi) + sigma sin(b xi),
 /// c1 = (1-sigma)/2 e^b = (cos b - sin b - e^{-b}) / (1 - e^{-2b} - 2 sin b e^{-b}). Normalized: ∫ phi^2 dxi = 1.
-inline double clamped_beam(double beta, double xi, int p) {
+struct BeamCoefficients {
+  double sigma, c1;
+};
+inline BeamCoefficients clamped_beam_coefficients(double beta) {
   const double eb = std::exp(-beta), s = std::sin(beta), c = std::cos(beta);
   const double den = 1.0 - eb * eb - 2.0 * s * eb;
-  const double sigma = (1.0 + eb * eb - 2.0 * c * eb) / den, c1 = (c - s - eb) / den;
+  return {(1.0 + eb * eb - 2.0 * c * eb) / den, (c - s - eb) / den};
+}
+inline double clamped_beam(double beta, double xi, int p) {
+  const auto [sigma, c1] = clamped_beam_coefficients(beta);
   const double e1 = 0.5 * (1.0 + sigma) * std::exp(-beta * xi), e2 = c1 * std::exp(-beta * (1.0 - xi));
   const double cx = std::cos(beta * xi), sx = std::sin(beta * xi);
   if (p == 0) return e1 + e2 - cx + sigma * sx;
