@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -64,6 +65,43 @@ TEST(CoupledSetup, AnEulerCaseGetsItsFlowOnARenumberedMeshWithTheWallOnTheShell)
   ASSERT_TRUE(fluid_force);
   const Vec3 shell_force = s.driver->shell_side_force(s.driver->pressure_rise());
   EXPECT_LT((shell_force - *fluid_force).norm(), 1e-9 * c.fluid->free_stream.pressure);
+}
+
+/// The pressure the coupled flow starts with at every node off the boundaries that impose a state (the inflow and
+/// the far field; walls and symmetry planes change the velocity only), against `expected`.
+void expect_initial_pressure(const std::vector<std::string>& sets, const std::function<double(const Vec3&)>& expected) {
+  std::vector<std::string> all = {"meshes.fluid.size_factor=3"};
+  all.insert(all.end(), sets.begin(), sets.end());
+  const io::Case c = read("clamped_clamped_coarse.yaml", all);
+  const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
+  const CoupledSystem s = build_coupled_system(c, meshes);
+  ASSERT_NE(s.flow, nullptr);
+  std::vector<bool> on_boundary(s.fluid_mesh->nodes.size(), false);
+  for (const char* group : {"inflow", "far_field"})
+    for (const Index a : s.fluid_mesh->group(group).nodes) on_boundary[std::size_t(a)] = true;
+  int checked = 0;
+  for (std::size_t a = 0; a < on_boundary.size(); ++a) {
+    if (on_boundary[a]) continue;
+    const Vec3& x = s.fluid_mesh->nodes[a];
+    ASSERT_NEAR(s.flow->flow()->pressure(Index(a)), expected(x), 1e-9 * expected(x)) << "node at " << x.transpose();
+    ++checked;
+  }
+  EXPECT_GT(checked, 100);
+}
+
+TEST(CoupledSetup, ACoupledFlowStartsFromTheFreeStreamByDefault) {
+  expect_initial_pressure({}, [](const Vec3&) { return 28000.0; });  // the case's free_stream.pressure
+}
+
+TEST(CoupledSetup, ACoupledFlowStartsFromTheCasesRiemannProblem) {
+  expect_initial_pressure({"fluid.analysis.riemann={position: 0.5, left: {density: 0.8, pressure: 4e4}, "
+                           "right: {density: 0.4, pressure: 2e4}}"},
+                          [](const Vec3& x) { return x.x() < 0.5 ? 4e4 : 2e4; });
+}
+
+TEST(CoupledSetup, ACoupledFlowStartsFromTheCasesInitialField) {
+  expect_initial_pressure({"fluid.analysis.initial={density: 0.4, velocity: [100, 0, 0], pressure: '2e4*(1 + x)'}"},
+                          [](const Vec3& x) { return 2e4 * (1.0 + x.x()); });
 }
 
 TEST(CoupledSetup, AWetGroupOffTheShellIsRefusedWithTheGapAndTheFix) {

@@ -164,10 +164,6 @@ void check_coupled_case(const Case& c) {
       throw_at(c.fluid->mesh_motion->where,
                "in a coupled run the shell moves the fluid mesh; remove "
                "'fluid.mesh_motion'");
-    if (c.fluid->analysis->riemann || c.fluid->analysis->initial)
-      throw_at(c.fluid->analysis->where,
-               fmt::format("a coupled run starts its flow from the free stream; '{}' is for flow-only runs: remove it",
-                           c.fluid->analysis->riemann ? "riemann" : "initial"));
     for (const FluidBoundary& b : c.fluid->boundaries)
       if (b.group == k.fluid_group && b.type == FluidBoundaryType::no_slip_wall && b.wall_velocity)
         throw_at(b.where, fmt::format("the wet wall '{}' moves with the shell (u = the shell's velocity, paper eq. "

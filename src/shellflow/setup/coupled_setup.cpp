@@ -112,8 +112,7 @@ CoupledSystem build_coupled_system(const io::Case& c, const io::CaseMeshes& mesh
                                                  boundary_conditions(*c.fluid, nullptr));
     }
     if (c.fluid) {
-      const fluid::Primitive inf = free_stream(*c.fluid);
-      flow->set_state([&](const Vec3&) { return inf; });
+      flow->set_state(initial_state(*c.fluid));
       options.cfl = c.fluid->analysis->cfl;
       const auto& kind = flow->boundaries().conditions();
       for (const auto& bc : kind)

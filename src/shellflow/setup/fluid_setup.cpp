@@ -70,6 +70,20 @@ fluid::Primitive free_stream(const io::FluidSection& section) {
           section.free_stream.pressure};
 }
 
+std::function<fluid::Primitive(const Vec3&)> initial_state(const io::FluidSection& section) {
+  const io::FluidAnalysis* analysis = section.analysis ? &*section.analysis : nullptr;
+  if (analysis && analysis->riemann) {
+    const io::RiemannInitial r = *analysis->riemann;
+    return [r](const Vec3& x) { return x.dot(r.normal) < r.position ? primitive(r.left) : primitive(r.right); };
+  }
+  if (analysis && analysis->initial) {
+    const io::SpaceTimeState initial = *analysis->initial;
+    return [initial](const Vec3& x) { return primitive(initial, x, 0.0); };
+  }
+  const fluid::Primitive inf = free_stream(section);
+  return [inf](const Vec3&) { return inf; };
+}
+
 std::vector<fluid::BoundaryCondition> boundary_conditions(const io::FluidSection& section,
                                                           const std::vector<Vec3>* mesh_velocity) {
   const fluid::Primitive inf = free_stream(section);
@@ -134,17 +148,7 @@ Flow build_flow(const io::FluidSection& section, const mesh::Mesh& case_mesh, in
       std::make_unique<fluid::FluidModel>(std::move(mesh), fluid_options(section),
                                           boundary_conditions(section, flow.mesh_velocity.get()), std::move(colouring));
   fluid::FluidModel& model = *flow.model;
-  const io::FluidAnalysis* analysis = section.analysis ? &*section.analysis : nullptr;
-  if (analysis && analysis->riemann) {
-    const auto& r = *analysis->riemann;
-    model.set_state(
-        [&](const Vec3& x) { return x.dot(r.normal) < r.position ? primitive(r.left) : primitive(r.right); });
-  } else if (analysis && analysis->initial) {
-    model.set_state([&](const Vec3& x) { return primitive(*analysis->initial, x, 0.0); });
-  } else {
-    const fluid::Primitive inf = free_stream(section);
-    model.set_state([&](const Vec3&) { return inf; });
-  }
+  model.set_state(initial_state(section));
   if (motion) {
     // Before the first step the time-step estimate uses the motion's velocity at t = 0.
     std::vector<Vec3>& w = *flow.mesh_velocity;

@@ -1,5 +1,6 @@
 #pragma once
 // Case file -> flow model pieces: the builders every kind of run shares (flow alone, coupled).
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -19,6 +20,9 @@ double free_stream_speed(const io::FluidSection& section);
 fluid::Primitive free_stream(const io::FluidSection& section);
 fluid::Primitive primitive(const io::GasState& g);
 fluid::Primitive primitive(const io::SpaceTimeState& s, const Vec3& X, double t);
+/// The flow at t = 0 of flow-only and coupled runs alike: fluid.analysis.riemann, else fluid.analysis.initial (at
+/// t = 0), else the free stream.
+std::function<fluid::Primitive(const Vec3&)> initial_state(const io::FluidSection& section);
 
 /// The boundary conditions of a flow section. `mesh_velocity`: on a mesh moved by a
 /// prescribed motion, the nodal mesh velocity of the current step, which slip and no-slip
