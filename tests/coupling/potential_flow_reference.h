@@ -49,12 +49,6 @@ inline Flow flow_from(double rho, double pressure, double gamma, double mach) {
   return {rho, std::sqrt(gamma * pressure / rho), mach};
 }
 
-/// P(s, kx, ky) / rho = (s + i U kx)^2 / mu.
-inline cplx pressure_symbol(const Flow& f, cplx s, double kx, double ky) {
-  const cplx d = s + cplx(0.0, f.U() * kx);
-  return d * d / std::sqrt(kx * kx + ky * ky + d * d / (f.a * f.a));
-}
-
 namespace detail {
 
 /// (e^w - 1) / w, by its series near w = 0.
