@@ -208,11 +208,12 @@ BoundaryLayer boundary_layer(double size_factor, int iterations) {
 }
 
 TEST(ViscousCoupling, LaminarBoundaryLayerSkinFrictionAndShearOnTheShellMatchTheFlatPlateSolution) {
-  // The case's mesh (first cell 0.21 mm, ~15 cells in the layer at mid-panel); tau at
-  // mid-panel changes by < 1e-5 after 22 000 iterations.
-  const BoundaryLayer r = boundary_layer(1.0, 24000);
-  EXPECT_NEAR(r.cf_mid / r.cf_exact_mid, 1.0, 0.05);  // measured -3.3 %
-  EXPECT_NEAR(r.shell_force / r.exact_force, 1.0, 0.05);
+  // The case's mesh (first cell 0.21 mm, ~15 cells in the layer at mid-panel). The wall shear
+  // at mid-panel converges geometrically (x0.35 per 2 000 iterations): after 16 000 it is
+  // 0.12 % above its value after 24 000 (measured 2026-12-07), far inside the 5 % asserted.
+  const BoundaryLayer r = boundary_layer(1.0, 16000);
+  EXPECT_NEAR(r.cf_mid / r.cf_exact_mid, 1.0, 0.05);      // measured -3.2 %
+  EXPECT_NEAR(r.shell_force / r.exact_force, 1.0, 0.05);  // measured -3.3 %
   // The shear passes whole, to the load points' quadrature of the piecewise-linear shear over
   // shell elements that do not conform to the fluid faces (measured 1e-6).
   EXPECT_NEAR(r.shell_force / r.fluid_force, 1.0, 1e-5);
@@ -221,10 +222,11 @@ TEST(ViscousCoupling, LaminarBoundaryLayerSkinFrictionAndShearOnTheShellMatchThe
 TEST(ViscousCoupling, LaminarBoundaryLayerOnTheCoarseVariantIsFirstOrderFartherOff) {
   // size_factor 2: half the cells each way, the first cell twice as thick: the one-sided
   // truncation of the layer's resolution doubles (the error is first order in the cell).
-  const BoundaryLayer r = boundary_layer(2.0, 16000);
+  // After 10 000 iterations the shear is within 0.07 % of its value after 16 000.
+  const BoundaryLayer r = boundary_layer(2.0, 10000);
   EXPECT_NEAR(r.cf_mid / r.cf_exact_mid, 1.0, 0.10);      // measured -7.5 %
-  EXPECT_NEAR(r.shell_force / r.exact_force, 1.0, 0.10);  // measured -7.6 %
-  EXPECT_NEAR(r.shell_force / r.fluid_force, 1.0, 1e-5);  // measured 1.8e-6
+  EXPECT_NEAR(r.shell_force / r.exact_force, 1.0, 0.10);  // measured -7.5 %
+  EXPECT_NEAR(r.shell_force / r.fluid_force, 1.0, 1e-5);  // measured 2e-6
 }
 
 }  // namespace
