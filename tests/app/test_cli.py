@@ -1429,14 +1429,15 @@ class Plates3D(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         with open(os.path.join(out, "response.json")) as f:
             response = json.load(f)
-        # Piston theory, linear eigenvalue of the half model: 69.05 1/s at 96.95 Hz (coupling.md).
-        # On 25 mm cells the Euler flow is within 4 % of it; the band allows 10 %.
-        self.assertGreater(response["growth_rate"], 0.9 * 69.05)
-        self.assertLess(response["growth_rate"], 1.1 * 69.05)
-        self.assertLess(abs(response["frequency_hz"] / 96.95 - 1), 0.03)
-        # Regression pin (this mesh and scheme, measured 2026-12): 66.94 1/s at 98.10 Hz.
-        self.assertAlmostEqual(response["growth_rate"], 66.94, delta=0.01 * 66.94)
-        self.assertAlmostEqual(response["frequency_hz"], 98.10, delta=0.005 * 98.10)
+        # The potential-flow reference carried over to the half model's shell: 73.31 1/s at
+        # 96.20 Hz (coupling.md; piston theory 69.05 1/s at 96.95 Hz). On 18.75 mm cells the
+        # Euler flow is 5.8 % above it; the band allows 10 %.
+        self.assertGreater(response["growth_rate"], 0.9 * 73.31)
+        self.assertLess(response["growth_rate"], 1.1 * 73.31)
+        self.assertLess(abs(response["frequency_hz"] / 96.20 - 1), 0.03)
+        # Regression pin (this mesh and scheme, measured 2026-12-07): 77.57 1/s at 96.02 Hz.
+        self.assertAlmostEqual(response["growth_rate"], 77.57, delta=0.01 * 77.57)
+        self.assertAlmostEqual(response["frequency_hz"], 96.02, delta=0.005 * 96.02)
         with open(os.path.join(out, "probes.csv"), newline="") as f:
             rows = list(csv.DictReader(f))
         self.assertEqual(len(rows), 601)
@@ -1448,7 +1449,7 @@ class Plates3D(unittest.TestCase):
         largest = max(abs(float(s["fluid_force_y"])) for s in steps)
         mismatch = max(abs(float(s["shell_force_y"]) - float(s["fluid_force_y"])) for s in steps)
         self.assertGreater(largest, 0.0)
-        self.assertLess(mismatch / largest, 0.015)  # measured 1.0 %
+        self.assertLess(mismatch / largest, 0.015)  # measured 1.2 %
         fluid = read_vtu_point_arrays(os.path.join(out, "fluid_000600.vtu"))
         speed = 3.5 * math.sqrt(1.4 * 28000 / 0.339)
         on_plane = [i for i, x in enumerate(fluid["Points"]) if abs(x[2]) < 1e-12]
