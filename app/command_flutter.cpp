@@ -19,6 +19,7 @@
 #include "shellflow/core/json.h"
 #include "shellflow/core/output_file.h"
 #include "shellflow/coupling/linear_flutter.h"
+#include "shellflow/coupling/piston_theory.h"
 #include "shellflow/io/case_meshes.h"
 #include "shellflow/io/mesh_output.h"
 #include "shellflow/run/shell_modes.h"
@@ -94,8 +95,9 @@ void warn_of_dense_solves(const coupling::LinearFlutterSystem& linear, const Flu
 
 /// The sweep over the parameter's range (widened up to three times when no boundary shows and
 /// no --range was given), the truncation check on half the modes, the case's least stable root.
-Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::PistonTheory& theory,
-             const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes) {
+Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::PistonAerodynamics& aero,
+             const coupling::PistonTheory& theory, const coupling::FlutterSetting& setting,
+             const FlutterOptions& options, int modes) {
   Result r;
   // The full system's highest roots are the mesh's thickness-stretch modes (MHz), which piston
   // theory destabilises: with --direct only the --modes roots of lowest frequency count.
@@ -114,8 +116,8 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
   SolveProgress progress;
   const auto on_value = [&](int solved) { progress(solved); };
   for (int widen = 0;; ++widen) {
-    r.sweep = coupling::sweep_flutter(linear, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, tracked,
-                                      on_value);
+    r.sweep = coupling::sweep_flutter(linear, aero, setting, options.parameter, r.lo, r.hi, options.points, 1e-9,
+                                      tracked, on_value);
     progress.add(int(r.sweep.points.size()) + (r.sweep.critical ? r.sweep.critical->bisections : 0));
     if (r.sweep.critical || options.range || widen == 3) break;
     spdlog::info("no flutter boundary up to {} = {:.6g}; widening the range", coupling::to_string(options.parameter),
@@ -125,11 +127,12 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
   if (!options.direct && modes >= 4 && r.sweep.critical) {
     // Truncation check: the same sweep on the first half of the modes.
     const auto half = linear.truncated(modes / 2);
-    const auto s =
-        coupling::sweep_flutter(half, setting, options.parameter, r.lo, r.hi, options.points, 1e-9, 0, on_value);
+    const auto s = coupling::sweep_flutter(half, *aero.truncated(modes / 2), setting, options.parameter, r.lo, r.hi,
+                                           options.points, 1e-9, 0, on_value);
     if (s.critical) r.half_modes_critical = s.critical->value;
   }
-  auto case_roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
+  auto case_roots =
+      linear.eigenvalues(aero.at_coefficients(theory.stiffness_coefficient(), theory.damping_coefficient()));
   if (tracked > 0 && case_roots.size() > std::size_t(tracked)) case_roots.resize(std::size_t(tracked));
   r.least_stable = *std::max_element(case_roots.begin(), case_roots.end(),
                                      [](const auto& a, const auto& b) { return a.real() < b.real(); });
@@ -180,7 +183,8 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
 /// mode, the least stable root's shape at the critical point (at the case's flow when the
 /// range has no boundary), as its real and imaginary parts (`flutter_mode_re`, `_im`; the
 /// largest displacement component is real and 1). Modal basis only.
-void write_mode_shapes(const shell::ShellModel& model, const coupling::LinearFlutterSystem& linear, const Result& r,
+void write_mode_shapes(const shell::ShellModel& model, const coupling::LinearFlutterSystem& linear,
+                       const coupling::ModalAerodynamics& aero, const Result& r,
                        const coupling::FlutterSetting& setting, const FlutterOptions& options, const fs::path& outdir) {
   constexpr int shown = 6;
   const Index nodes = model.num_nodes();
@@ -192,9 +196,9 @@ void write_mode_shapes(const shell::ShellModel& model, const coupling::LinearFlu
     values.push_back(run::normalised_mode_displacement(linear.basis().col(k), nodes));
     fields.push_back({fmt::format("mode_{:02}", k + 1), 3, values.back()});
   }
-  const auto [qA, qD] = r.sweep.critical ? setting.coefficients(options.parameter, r.sweep.critical->value)
-                                         : setting.coefficients(coupling::FlutterParameter::mach, setting.mach);
-  const Eigen::VectorXcd shape = linear.least_stable_mode(qA, qD).second;
+  const coupling::FlowCondition flow = r.sweep.critical ? setting.flow(options.parameter, r.sweep.critical->value)
+                                                        : setting.flow(coupling::FlutterParameter::mach, setting.mach);
+  const Eigen::VectorXcd shape = linear.least_stable_mode(aero.at(flow)).second;
   std::vector<double> re, im;
   for (Index n = 0; n < nodes; ++n)
     for (int i = 0; i < 3; ++i) {
@@ -263,18 +267,19 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
                setting.mass_ratio_over_mach(c.shell->material.density, c.shell->thickness),
                modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
                options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
-  const coupling::LinearFlutterSystem linear(model, theory, modes);
+  const coupling::LinearFlutterSystem linear(model, modes);
+  const coupling::PistonAerodynamics aero(linear, theory);
   if (!options.direct)
     spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", linear.in_vacuo_frequencies().front(),
                  linear.in_vacuo_frequencies().back());
   else
     spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", linear.size());
   if (options.direct) warn_of_dense_solves(linear, options);
-  const Result r = sweep(linear, theory, setting, options, modes);
+  const Result r = sweep(linear, aero, theory, setting, options, modes);
   // 3. The outputs and the plot.
   write_locus(r, outdir);
   const std::string json = write_summary(c, r, linear, setting, options, modes, outdir);
-  if (!options.direct) write_mode_shapes(model, linear, r, setting, options, outdir);
+  if (!options.direct) write_mode_shapes(model, linear, aero, r, setting, options, outdir);
   log_outcome(r, setting, options, modes, outdir);
   if (options.json) std::printf("%s\n", json.c_str());
   if (common.plot) {

@@ -51,8 +51,10 @@ inline Flutter eigen_analysis(const shellflow::io::Case& c, int modes) {
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   setup::CoupledSystem s = setup::build_coupled_system(c, meshes);
   const coupling::PistonTheory& theory = s.piston->theory();
-  const coupling::LinearFlutterSystem linear(*s.shell, theory, modes);
-  const auto roots = linear.eigenvalues(theory.stiffness_coefficient(), theory.damping_coefficient());
+  const coupling::LinearFlutterSystem linear(*s.shell, modes);
+  const auto roots =
+      linear.eigenvalues(coupling::PistonAerodynamics(linear, theory)
+                             .at_coefficients(theory.stiffness_coefficient(), theory.damping_coefficient()));
   const auto best =
       *std::max_element(roots.begin(), roots.end(), [](const auto& a, const auto& b) { return a.real() < b.real(); });
   return {best.real(), std::abs(best.imag()) / (2 * std::numbers::pi), {}, {}, 0.0};

@@ -14,7 +14,10 @@
 
 #include "../shell/structured_shell_mesh.h"
 #include "coupling_test_util.h"
+#include "shellflow/core/error.h"
 #include "shellflow/coupling/linear_flutter.h"
+#include "shellflow/coupling/modal_aerodynamics.h"
+#include "shellflow/coupling/piston_theory.h"
 
 namespace shellflow::coupling {
 namespace {
@@ -111,9 +114,11 @@ TEST(LinearFlutter, DowellsClampedAndPinnedPanelsWithoutAerodynamicDamping) {
   for (const int nx : {5, 10, 20, 40}) {
     const shell::ShellModel mc = strip(nx, Edges::clamped), mp = strip(nx, Edges::pinned);
     const PistonTheory pc = piston(mc), pp = piston(mp);
-    const LinearFlutterSystem sc(mc, pc, 16), sp(mp, pp, 16);
-    const auto rc = sweep_flutter(sc, setting(false), FlutterParameter::lambda, 0.0, 1000.0, 21);
-    const auto rp = sweep_flutter(sp, setting(false), FlutterParameter::lambda, 0.0, 1000.0, 21);
+    const LinearFlutterSystem sc(mc, 16), sp(mp, 16);
+    const auto rc =
+        sweep_flutter(sc, PistonAerodynamics(sc, pc), setting(false), FlutterParameter::lambda, 0.0, 1000.0, 21);
+    const auto rp =
+        sweep_flutter(sp, PistonAerodynamics(sp, pp), setting(false), FlutterParameter::lambda, 0.0, 1000.0, 21);
     ASSERT_TRUE(rc.critical && rp.critical);
     clamped = rc.critical->lambda;
     pinned = rp.critical->lambda;
@@ -131,8 +136,9 @@ TEST(LinearFlutter, TwoModePinnedPanelMeetsTheClosedForm) {
   // (the piston-theory coupling of the two modes is antisymmetric, A_11 = A_22 = 0).
   const shell::ShellModel model = strip(40, Edges::pinned);
   const PistonTheory p = piston(model);
-  const LinearFlutterSystem two(model, p, 2);
-  const auto r = sweep_flutter(two, setting(false), FlutterParameter::lambda, 0.0, 1000.0, 11);
+  const LinearFlutterSystem two(model, 2);
+  const auto r =
+      sweep_flutter(two, PistonAerodynamics(two, p), setting(false), FlutterParameter::lambda, 0.0, 1000.0, 11);
   ASSERT_TRUE(r.critical);
   const auto& f = two.in_vacuo_frequencies();
   const double f_closed = std::sqrt(0.5 * (f[0] * f[0] + f[1] * f[1]));
@@ -154,10 +160,11 @@ TEST(LinearFlutter, ModalBasisAgreesWithTheFullSystem) {
   // not the panel's, and the modal basis leaves them out (docs/flutter.md).
   const shell::ShellModel model = strip(6, Edges::clamped);
   const PistonTheory p = piston(model);
-  const LinearFlutterSystem modal(model, p, 24), full(model, p, 0);
+  const LinearFlutterSystem modal(model, 24), full(model, 0);
+  const PistonAerodynamics am(modal, p), af(full, p);
   for (const bool damping : {false, true}) {
-    const auto [qA, qD] = setting(damping).coefficients(FlutterParameter::lambda, 800.0);
-    const auto rm = modal.eigenvalues(qA, qD), rf = full.eigenvalues(qA, qD);
+    const FlowCondition flow = setting(damping).flow(FlutterParameter::lambda, 800.0);
+    const auto rm = modal.eigenvalues(am.at(flow)), rf = full.eigenvalues(af.at(flow));
     ASSERT_GE(rf.size(), rm.size());
     const auto least =
         *std::max_element(rm.begin(), rm.end(), [](const auto& x, const auto& y) { return x.real() < y.real(); });
@@ -176,8 +183,8 @@ TEST(LinearFlutter, ModalBasisAgreesWithTheFullSystem) {
       EXPECT_NEAR(rm[k].imag(), near.imag(), 5e-4 * std::abs(near)) << "root " << k;
     }
     // The full system's boundary, counting its lowest 12 roots, equals the modal one.
-    const auto bm = sweep_flutter(modal, setting(damping), FlutterParameter::lambda, 0.0, 1000.0, 11);
-    const auto bf = sweep_flutter(full, setting(damping), FlutterParameter::lambda, 0.0, 1000.0, 11, 1e-6, 12);
+    const auto bm = sweep_flutter(modal, am, setting(damping), FlutterParameter::lambda, 0.0, 1000.0, 11);
+    const auto bf = sweep_flutter(full, af, setting(damping), FlutterParameter::lambda, 0.0, 1000.0, 11, 1e-6, 12);
     ASSERT_TRUE(bm.critical && bf.critical);
     EXPECT_NEAR(bm.critical->lambda, bf.critical->lambda, 1e-4 * bf.critical->lambda);
   }
@@ -186,10 +193,11 @@ TEST(LinearFlutter, ModalBasisAgreesWithTheFullSystem) {
 TEST(LinearFlutter, DampingRaisesTheBoundaryAndMachAndLambdaSweepsAgree) {
   const shell::ShellModel model = strip(20, Edges::clamped);
   const PistonTheory p = piston(model);
-  const LinearFlutterSystem s(model, p, 16);
-  const auto undamped = sweep_flutter(s, setting(false), FlutterParameter::lambda, 0.0, 1000.0, 21);
-  const auto damped = sweep_flutter(s, setting(true), FlutterParameter::lambda, 0.0, 1000.0, 21);
-  const auto mach = sweep_flutter(s, setting(true), FlutterParameter::mach, 1.5, 4.0, 26);
+  const LinearFlutterSystem s(model, 16);
+  const PistonAerodynamics aero(s, p);
+  const auto undamped = sweep_flutter(s, aero, setting(false), FlutterParameter::lambda, 0.0, 1000.0, 21);
+  const auto damped = sweep_flutter(s, aero, setting(true), FlutterParameter::lambda, 0.0, 1000.0, 21);
+  const auto mach = sweep_flutter(s, aero, setting(true), FlutterParameter::mach, 1.5, 4.0, 26);
   ASSERT_TRUE(undamped.critical && damped.critical && mach.critical);
   std::printf(
       "clamped, 20 elements: lambda_cr %.3f (no damping), %.3f (damping at Mach 2.3, mu/M %.4g), Mach "
@@ -202,10 +210,115 @@ TEST(LinearFlutter, DampingRaisesTheBoundaryAndMachAndLambdaSweepsAgree) {
   // lambda(M_cr) must at least be a stable/unstable boundary of the Mach sweep's own system.
   const FlutterSetting st = setting(true);
   EXPECT_NEAR(st.mach_of_lambda(st.lambda_of_mach(mach.critical->mach)), mach.critical->mach, 1e-9);
-  const auto [qa_lo, qd_lo] = st.coefficients(FlutterParameter::mach, mach.critical->mach * (1 - 1e-6));
-  const auto [qa_hi, qd_hi] = st.coefficients(FlutterParameter::mach, mach.critical->mach * (1 + 1e-6));
-  EXPECT_LT(s.max_growth_rate(qa_lo, qd_lo), 0.0);
-  EXPECT_GT(s.max_growth_rate(qa_hi, qd_hi), 0.0);
+  EXPECT_LT(s.max_growth_rate(aero.at(st.flow(FlutterParameter::mach, mach.critical->mach * (1 - 1e-6)))), 0.0);
+  EXPECT_GT(s.max_growth_rate(aero.at(st.flow(FlutterParameter::mach, mach.critical->mach * (1 + 1e-6)))), 0.0);
+}
+
+/// Piston theory with one extra flow state that the forces do not see (C = 0): the roots are
+/// piston theory's and the state's pole.
+class PistonWithSilentState final : public ModalAerodynamics {
+ public:
+  PistonWithSilentState(const LinearFlutterSystem& system, const PistonTheory& p, double pole)
+      : piston_(system, p), pole_(pole), n_(system.size()) {}
+  AeroStateSpace at(const FlowCondition& flow) const override {
+    AeroStateSpace s = piston_.at(flow);
+    s.A = Eigen::MatrixXd::Constant(1, 1, pole_);
+    s.B0 = Eigen::MatrixXd::Ones(1, n_);  // driven by the motion, heard by nobody
+    s.B1 = Eigen::MatrixXd::Zero(1, n_);
+    s.C = Eigen::MatrixXd::Zero(n_, 1);
+    return s;
+  }
+  std::unique_ptr<ModalAerodynamics> truncated(int) const override { return nullptr; }
+  std::string name() const override { return "piston theory with a silent state"; }
+
+ private:
+  PistonAerodynamics piston_;
+  double pole_;
+  Eigen::Index n_;
+};
+
+TEST(LinearFlutter, AFlowStateEntersWhereTheStateSpaceModelPutsIt) {
+  // Two modes; one flow state x' = -a x + b q1 + e q1', force c x on mode 1: mode 2 keeps
+  // s = i omega_2, mode 1 and the state solve (s^2 + omega_1^2)(s + a) - c (b + e s) = 0.
+  const shell::ShellModel model = strip(20, Edges::pinned);
+  const LinearFlutterSystem two(model, 2);
+  const double w1 = 2 * pi * two.in_vacuo_frequencies()[0], w2 = 2 * pi * two.in_vacuo_frequencies()[1];
+  const double ra = 50.0, b = -3e4, e = 5.0, c = 10.0;
+  AeroStateSpace aero;
+  aero.D0 = aero.D1 = Eigen::MatrixXd::Zero(2, 2);
+  aero.A = Eigen::MatrixXd::Constant(1, 1, -ra);
+  aero.B0 = Eigen::MatrixXd::Zero(1, 2);
+  aero.B1 = Eigen::MatrixXd::Zero(1, 2);
+  aero.C = Eigen::MatrixXd::Zero(2, 1);
+  aero.B0(0, 0) = b;
+  aero.B1(0, 0) = e;
+  aero.C(0, 0) = c;
+  const auto roots = two.eigenvalues(aero);
+  const auto cubic = [&](std::complex<double> s) { return (s * s + w1 * w1) * (s + ra) - c * (b + e * s); };
+  int on_mode_2 = 0, on_cubic = 0;
+  for (const auto& s : roots) {
+    EXPECT_GE(s.imag(), 0.0);
+    if (std::abs(s - std::complex<double>(0.0, w2)) < 1e-9 * w2) {
+      ++on_mode_2;
+      continue;
+    }
+    // |cubic(s)| against the size of its terms at |s|.
+    const double scale = (std::norm(s) + w1 * w1) * (std::abs(s) + ra) + c * (b + e * std::abs(s));
+    EXPECT_LT(std::abs(cubic(s)), 1e-12 * scale) << s;
+    ++on_cubic;
+  }
+  EXPECT_EQ(on_mode_2, 1);
+  EXPECT_EQ(on_cubic, 2);  // a complex pair counted once and the real root
+  // Here the lag feeds energy into mode 1: its pair grows (about 11.7 1/s at 95.4 rad/s, the real
+  // root about -73.4 1/s with the beam's omega_1).
+  EXPECT_GT(two.max_growth_rate(aero), 0.0);
+}
+
+TEST(LinearFlutter, ASilentFlowStateLeavesPistonTheorysRootsAndBoundary) {
+  // The modal basis and the full system (which inverts the whole state matrix when the model
+  // has states): piston theory's roots plus the state's pole, to 1e-6 (the unbalanced state
+  // matrix, omega_max^2 beside 1, gives its highest roots to ~1e-7 whatever the model: two
+  // solves differ by that), and on the modal basis the same boundary. The full system's comparison keeps to its lowest
+  // 12 roots: its highest (the mesh's thickness-stretch modes, ~1.7e7 rad/s) are the inverse's smallest eigenvalues,
+  // and two inversions give them to ~1e-3 only.
+  const shell::ShellModel model = strip(6, Edges::clamped);
+  const PistonTheory p = piston(model);
+  for (const int modes : {12, 0}) {
+    const LinearFlutterSystem sys(model, modes);
+    const PistonAerodynamics plain(sys, p);
+    const PistonWithSilentState silent(sys, p, -250.0);
+    const FlowCondition flow = setting(true).flow(FlutterParameter::lambda, 800.0);
+    auto r0 = sys.eigenvalues(plain.at(flow));
+    const auto r1 = sys.eigenvalues(silent.at(flow));
+    ASSERT_EQ(r1.size(), r0.size() + 1) << modes;
+    EXPECT_EQ(std::count_if(r1.begin(), r1.end(), [](const auto& z) { return std::abs(z + 250.0) < 1e-6; }), 1);
+    r0.resize(std::min<std::size_t>(r0.size(), 12));
+    for (const auto& z : r0) {
+      const auto near = *std::min_element(
+          r1.begin(), r1.end(), [&](const auto& x, const auto& y) { return std::abs(x - z) < std::abs(y - z); });
+      EXPECT_LT(std::abs(near - z), 1e-6 * std::abs(z)) << "modes " << modes << " root " << z;
+    }
+    if (modes == 0) continue;  // a sweep of the full system takes a minute
+    const auto b0 = sweep_flutter(sys, plain, setting(true), FlutterParameter::lambda, 0.0, 1000.0, 11);
+    const auto b1 = sweep_flutter(sys, silent, setting(true), FlutterParameter::lambda, 0.0, 1000.0, 11);
+    ASSERT_TRUE(b0.critical && b1.critical);
+    EXPECT_NEAR(b1.critical->lambda, b0.critical->lambda, 1e-8 * b0.critical->lambda);
+  }
+}
+
+TEST(LinearFlutter, AModelOfTheWrongSizeIsRefused) {
+  const shell::ShellModel model = strip(6, Edges::clamped);
+  const LinearFlutterSystem sys(model, 4);
+  AeroStateSpace aero;
+  aero.D0 = aero.D1 = Eigen::MatrixXd::Zero(4, 4);
+  aero.A = Eigen::MatrixXd::Zero(2, 2);
+  aero.B0 = aero.B1 = Eigen::MatrixXd::Zero(2, 4);
+  aero.C = Eigen::MatrixXd::Zero(4, 3);
+  EXPECT_THROW(sys.eigenvalues(aero), SolverError);
+  aero.C = Eigen::MatrixXd::Zero(4, 2);
+  EXPECT_NO_THROW(sys.eigenvalues(aero));
+  aero.D1 = Eigen::MatrixXd::Zero(3, 3);
+  EXPECT_THROW(sys.eigenvalues(aero), SolverError);
 }
 
 }  // namespace

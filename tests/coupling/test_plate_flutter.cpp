@@ -13,6 +13,7 @@
 #include "coupling_test_util.h"
 #include "plate_flutter_reference.h"
 #include "shellflow/coupling/linear_flutter.h"
+#include "shellflow/coupling/piston_theory.h"
 
 namespace shellflow::coupling {
 namespace {
@@ -76,9 +77,10 @@ Critical shellflow_critical(const PlateCase& c, int modes) {
   flow.direction = Vec3::UnitX();
   flow.wet_normal = Vec3::UnitZ();
   const PistonTheory theory(model, flow);
-  const LinearFlutterSystem linear(model, theory, modes);
-  const auto r = sweep_flutter(linear, coupling_test::panel_flutter_setting(c.a, 3.0, false), FlutterParameter::lambda,
-                               0.0, 2000.0, 21);
+  const LinearFlutterSystem linear(model, modes);
+  const auto r =
+      sweep_flutter(linear, PistonAerodynamics(linear, theory), coupling_test::panel_flutter_setting(c.a, 3.0, false),
+                    FlutterParameter::lambda, 0.0, 2000.0, 21);
   EXPECT_TRUE(r.critical) << c.name;
   return r.critical ? Critical{r.critical->lambda, r.critical->frequency_hz} : Critical{NAN, NAN};
 }

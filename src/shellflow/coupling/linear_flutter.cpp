@@ -28,15 +28,12 @@ Eigen::MatrixXd restrict(const shell::SparseMatrix& S, const std::vector<Eigen::
 
 }  // namespace
 
-LinearFlutterSystem::LinearFlutterSystem(const shell::ShellModel& model, const PistonTheory& theory, int modes,
-                                         const shell::ModalOptions& options)
+LinearFlutterSystem::LinearFlutterSystem(const shell::ShellModel& model, int modes, const shell::ModalOptions& options)
     : modal_(modes > 0) {
   if (model.has_local_frames())
     throw_input_error(
         "linear flutter analysis: supports along rotated directions are not supported yet; "
         "use supports along the global axes");
-  shell::SparseMatrix A1, D1;
-  theory.matrices(A1, D1, 1.0, 1.0);
   if (modal_) {
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.num_dofs());
     const shell::ModalResult m = shell::natural_frequencies(model, modes, zero, options);
@@ -45,44 +42,47 @@ LinearFlutterSystem::LinearFlutterSystem(const shell::ShellModel& model, const P
     frequencies_ = m.frequencies;
     K_ = Eigen::MatrixXd::Zero(modes, modes);
     for (int i = 0; i < modes; ++i) K_(i, i) = std::pow(2.0 * std::numbers::pi * m.frequencies[std::size_t(i)], 2);
-    A_ = Phi.transpose() * (A1 * Phi);
-    D_ = Phi.transpose() * (D1 * Phi);
     basis_ = std::move(Phi);
     return;
   }
   // Full system: the free dofs that carry mass (positions, directors) keep their rows; the
-  // massless ones (the thickness parameter, shell.md §6) are condensed out of K. Piston
-  // theory loads and reads positions only, so A and D need no condensation.
+  // massless ones (the thickness parameter, shell.md §6) are condensed out of K. Aerodynamic
+  // loads (piston theory's, the flow's) load and read positions only, so they need no
+  // condensation.
   shell::SparseMatrix K = model.make_matrix(), M = model.make_matrix();
   Eigen::VectorXd f;
   model.assemble(Eigen::VectorXd::Zero(model.num_dofs()), f, &K);
   model.assemble_mass(M);
   const auto& fixed = model.constrained();
   const Eigen::VectorXd diag = M.diagonal();
-  std::vector<Eigen::Index> mass, massless;
+  std::vector<Eigen::Index> massless;
   for (Eigen::Index i = 0; i < model.num_dofs(); ++i) {
     if (fixed[std::size_t(i)]) continue;
-    (diag(i) > 0.0 ? mass : massless).push_back(i);
+    (diag(i) > 0.0 ? mass_ : massless).push_back(i);
   }
-  Eigen::MatrixXd Kmm = restrict(K, mass, mass);
+  Eigen::MatrixXd Kmm = restrict(K, mass_, mass_);
   if (!massless.empty()) {
-    const Eigen::MatrixXd Kma = restrict(K, mass, massless);
+    const Eigen::MatrixXd Kma = restrict(K, mass_, massless);
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(restrict(K, massless, massless));
     Kmm -= Kma * lu.solve(Kma.transpose());
   }
   // M = L L^T: with q = L^-T y the mass becomes the identity.
-  const Eigen::LLT<Eigen::MatrixXd> llt(restrict(M, mass, mass));
-  if (llt.info() != Eigen::Success)
+  mass_factor_.compute(restrict(M, mass_, mass_));
+  if (mass_factor_.info() != Eigen::Success)
     throw SolverError("linear flutter analysis: the mass matrix of the free dofs is not positive definite");
-  const auto scale = [&](Eigen::MatrixXd X) {
-    llt.matrixL().solveInPlace(X);
-    X.transposeInPlace();
-    llt.matrixL().solveInPlace(X);
-    return Eigen::MatrixXd(X.transpose());  // L^-1 X L^-T
-  };
-  K_ = scale(Kmm);
-  A_ = scale(restrict(A1, mass, mass));
-  D_ = scale(restrict(D1, mass, mass));
+  K_ = scaled(Kmm);
+}
+
+Eigen::MatrixXd LinearFlutterSystem::scaled(Eigen::MatrixXd X) const {
+  mass_factor_.matrixL().solveInPlace(X);
+  X.transposeInPlace();
+  mass_factor_.matrixL().solveInPlace(X);
+  return Eigen::MatrixXd(X.transpose());  // L^-1 X L^-T
+}
+
+Eigen::MatrixXd LinearFlutterSystem::generalised(const shell::SparseMatrix& X) const {
+  if (modal_) return basis_.transpose() * (X * basis_);
+  return scaled(restrict(X, mass_, mass_));
 }
 
 LinearFlutterSystem LinearFlutterSystem::truncated(int k) const {
@@ -91,26 +91,48 @@ LinearFlutterSystem LinearFlutterSystem::truncated(int k) const {
                                   modal_ ? "modal" : "full", K_.rows(), k));
   LinearFlutterSystem t;
   t.K_ = K_.topLeftCorner(k, k);
-  t.A_ = A_.topLeftCorner(k, k);
-  t.D_ = D_.topLeftCorner(k, k);
   t.frequencies_.assign(frequencies_.begin(), frequencies_.begin() + k);
   t.basis_ = basis_.leftCols(k);
   return t;
 }
 
-std::pair<std::complex<double>, Eigen::VectorXcd> LinearFlutterSystem::least_stable_mode(double q_stiffness,
-                                                                                         double q_damping) const {
+Eigen::MatrixXd LinearFlutterSystem::state_matrix(const AeroStateSpace& aero) const {
+  const Eigen::Index n = K_.rows(), m = aero.states();
+  const auto check = [&](const Eigen::MatrixXd& X, Eigen::Index rows, Eigen::Index cols, const char* name) {
+    if (X.rows() != rows || X.cols() != cols)
+      throw SolverError(fmt::format("linear flutter analysis: the aerodynamic model's {} is {} x {}, not {} x {}", name,
+                                    X.rows(), X.cols(), rows, cols));
+  };
+  check(aero.D0, n, n, "D0");
+  check(aero.D1, n, n, "D1");
+  if (m > 0) {
+    check(aero.A, m, m, "A");
+    check(aero.B0, m, n, "B0");
+    check(aero.B1, m, n, "B1");
+    check(aero.C, n, m, "C");
+  }
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n + m, 2 * n + m);
+  S.block(0, n, n, n).setIdentity();
+  S.block(n, 0, n, n) = -K_ + aero.D0;
+  S.block(n, n, n, n) = aero.D1;
+  if (m > 0) {
+    S.block(n, 2 * n, n, m) = aero.C;
+    S.block(2 * n, 0, m, n) = aero.B0;
+    S.block(2 * n, n, m, n) = aero.B1;
+    S.block(2 * n, 2 * n, m, m) = aero.A;
+  }
+  return S;
+}
+
+std::pair<std::complex<double>, Eigen::VectorXcd> LinearFlutterSystem::least_stable_mode(
+    const AeroStateSpace& aero) const {
   if (!modal_) throw SolverError("linear flutter analysis: mode shapes need the modal basis (not --direct)");
   const Eigen::Index n = K_.rows();
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  S.topRightCorner(n, n).setIdentity();
-  S.bottomLeftCorner(n, n) = -(K_ + q_stiffness * A_);
-  S.bottomRightCorner(n, n) = -q_damping * D_;
-  const Eigen::EigenSolver<Eigen::MatrixXd> es(S, true);
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(state_matrix(aero), true);
   if (es.info() != Eigen::Success) throw SolverError("linear flutter analysis: the eigenvalue solver failed");
   // The least stable root with Im s >= 0 (its conjugate carries the same shape).
   Eigen::Index best = -1;
-  for (Eigen::Index k = 0; k < 2 * n; ++k) {
+  for (Eigen::Index k = 0; k < es.eigenvalues().size(); ++k) {
     const auto z = es.eigenvalues()(k);
     if (z.imag() >= 0.0 && (best < 0 || z.real() > es.eigenvalues()(best).real())) best = k;
   }
@@ -123,54 +145,66 @@ std::pair<std::complex<double>, Eigen::VectorXcd> LinearFlutterSystem::least_sta
   return {es.eigenvalues()(best), shape};
 }
 
-std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(double q_stiffness, double q_damping) const {
-  const Eigen::Index n = K_.rows();
-  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
-  std::vector<std::complex<double>> s;
+std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(const AeroStateSpace& aero) const {
+  const Eigen::Index n = K_.rows(), m = aero.states();
+  Eigen::MatrixXd S;
+  const bool inverted = !modal_;
   if (modal_) {
-    S.topRightCorner(n, n).setIdentity();
-    S.bottomLeftCorner(n, n) = -(K_ + q_stiffness * A_);
-    S.bottomRightCorner(n, n) = -q_damping * D_;
-  } else {
+    S = state_matrix(aero);
+  } else if (m == 0) {
     // The full system's roots span ~1e3 to ~1e7 rad/s: the QR iteration's error ~ eps ||S||
-    // would swamp the panel's roots. Its inverse [-Kq^-1 C, -Kq^-1; I, 0] has them as its
-    // largest eigenvalues 1/s, to round-off relative to themselves.
-    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K_ + q_stiffness * A_);
-    S.topLeftCorner(n, n) = -lu.solve(q_damping * D_);
+    // would swamp the panel's roots. Its inverse [Kq^-1 D1, -Kq^-1; I, 0] (Kq = K - D0) has
+    // them as its largest eigenvalues 1/s, to round-off relative to themselves.
+    state_matrix(aero);  // the size checks
+    S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K_ - aero.D0);
+    S.topLeftCorner(n, n) = lu.solve(aero.D1);
     S.topRightCorner(n, n) = -lu.inverse();
     S.bottomLeftCorner(n, n).setIdentity();
+  } else {
+    // With flow states: the same inversion, of the whole state matrix.
+    S = Eigen::PartialPivLU<Eigen::MatrixXd>(state_matrix(aero)).inverse();
   }
   const Eigen::EigenSolver<Eigen::MatrixXd> es(S, false);
   if (es.info() != Eigen::Success) throw SolverError("linear flutter analysis: the eigenvalue solver failed");
-  for (const auto& z : es.eigenvalues()) s.push_back(modal_ ? z : 1.0 / z);
-  // One root per dof: the n of largest Im s (a real pair keeps its larger root).
+  std::vector<std::complex<double>> s;
+  for (const auto& z : es.eigenvalues()) s.push_back(inverted ? 1.0 / z : z);
   std::sort(s.begin(), s.end(), [](const auto& a, const auto& b) {
     return a.imag() != b.imag() ? a.imag() > b.imag() : a.real() > b.real();
   });
-  s.resize(std::size_t(n));
+  if (m == 0) {
+    s.resize(std::size_t(n));  // one root per dof: the n of largest Im s (a real pair keeps its larger root)
+  } else {
+    s.erase(std::find_if(s.begin(), s.end(), [](const auto& z) { return z.imag() < 0.0; }), s.end());
+  }
   std::sort(s.begin(), s.end(), [](const auto& a, const auto& b) {
     return a.imag() != b.imag() ? a.imag() < b.imag() : a.real() < b.real();
   });
   return s;
 }
 
-double LinearFlutterSystem::max_growth_rate(double q_stiffness, double q_damping) const {
+double LinearFlutterSystem::max_growth_rate(const AeroStateSpace& aero) const {
   double best = -std::numeric_limits<double>::infinity();
-  for (const auto& s : eigenvalues(q_stiffness, q_damping)) best = std::max(best, s.real());
+  for (const auto& s : eigenvalues(aero)) best = std::max(best, s.real());
   return best;
 }
 
-std::pair<double, double> FlutterSetting::coefficients(FlutterParameter p, double value) const {
+FlowCondition FlutterSetting::flow(FlutterParameter p, double value) const {
   const double m = p == FlutterParameter::mach ? value : mach;
-  const double m2 = m * m, beta = std::sqrt(m2 - 1.0), c = (m2 - 2.0) / (m2 - 1.0);
+  const double m2 = m * m, beta = std::sqrt(m2 - 1.0);
+  FlowCondition f;
+  f.density = density;
+  f.mach = m;
   if (p == FlutterParameter::mach) {
-    const double U = m * std::sqrt(gamma * pressure / density);
-    return {density * U * U / beta, density * U * c / beta};
+    f.speed = m * std::sqrt(gamma * pressure / density);
+    f.dynamic_pressure_over_beta = density * f.speed * f.speed / beta;
+    return f;
   }
   // lambda at the case's rho and M: U from qA = rho U^2 / beta.
-  const double qA = value * bending_stiffness / std::pow(length, 3);
-  const double U = std::sqrt(std::max(qA, 0.0) * beta / density);
-  return {qA, aerodynamic_damping ? density * U * c / beta : 0.0};
+  f.dynamic_pressure_over_beta = value * bending_stiffness / std::pow(length, 3);
+  f.speed = std::sqrt(std::max(f.dynamic_pressure_over_beta, 0.0) * beta / density);
+  f.damping = aerodynamic_damping;
+  return f;
 }
 
 double FlutterSetting::lambda_of_mach(double m) const {
@@ -191,9 +225,9 @@ double FlutterSetting::mass_ratio_over_mach(double shell_density, double thickne
   return density * length / (shell_density * thickness * mach);
 }
 
-FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting, FlutterParameter parameter,
-                           double lo, double hi, int points, double relative_tolerance, int tracked_roots,
-                           const std::function<void(int)>& on_value) {
+FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const ModalAerodynamics& aero,
+                           const FlutterSetting& setting, FlutterParameter parameter, double lo, double hi, int points,
+                           double relative_tolerance, int tracked_roots, const std::function<void(int)>& on_value) {
   if (!(hi > lo) || points < 2)
     throw_input_error(
         "linear flutter analysis: the range [{}, {}] with {} points is empty; give lo < hi "
@@ -205,8 +239,7 @@ FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetti
   const auto evaluate = [&](double value) {
     FlutterPoint p;
     p.value = value;
-    const auto [qA, qD] = setting.coefficients(parameter, value);
-    p.eigenvalues = system.eigenvalues(qA, qD);
+    p.eigenvalues = system.eigenvalues(aero.at(setting.flow(parameter, value)));
     if (tracked_roots > 0 && p.eigenvalues.size() > std::size_t(tracked_roots))
       p.eigenvalues.resize(std::size_t(tracked_roots));
     for (const auto& s : p.eigenvalues) p.scale = std::max(p.scale, std::abs(s));

@@ -1,10 +1,11 @@
 #pragma once
 // Linear flutter analysis (docs/flutter.md): the shell linearised about its flat reference
-// state plus first-order piston theory,
-//   M q'' + qD D1 q' + (K + qA A1) q = 0,
-// with A1, D1 the piston-theory matrices per unit coefficient (piston_theory.h) and
+// state plus a linear aerodynamic model (modal_aerodynamics.h),
+//   M q'' + K q = f,   f = C x + D0 q + D1 q',   x' = A x + B0 q + B1 q',
+// e.g. first-order piston theory, f = -(qA A1 q + qD D1 q') with A1, D1 its matrices per unit
+// coefficient (piston_theory.h) and
 //   qA = rho U^2 / beta,   qD = rho U (M^2 - 2) / ((M^2 - 1) beta),   beta = sqrt(M^2 - 1).
-// Solutions q ~ exp(s t), s = sigma + i omega: the panel flutters when some sigma > 0.
+// Solutions ~ exp(s t), s = sigma + i omega: the panel flutters when some sigma > 0.
 //
 // The eigenproblem is solved on a basis of the first `modes` in-vacuo modes (M-orthonormal,
 // so M -> I and K -> diag(omega_k^2)): a 2K x 2K dense state matrix per parameter value,
@@ -18,6 +19,7 @@
 // aerodynamic damping grows like sqrt(lambda), Dowell's fixed mu/M), or drops the damping
 // (mu/M -> 0, the classical coalescence values). A sweep in Mach keeps rho and p of the case
 // (fixed altitude): U = M sqrt(gamma p / rho).
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <complex>
 #include <functional>
@@ -25,26 +27,32 @@
 #include <string>
 #include <vector>
 
-#include "shellflow/coupling/piston_theory.h"
+#include "shellflow/coupling/modal_aerodynamics.h"
 #include "shellflow/shell/modal.h"
 #include "shellflow/shell/shell_model.h"
 
 namespace shellflow::coupling {
 
-/// The reduced (or full) linear system of shell + piston theory, per unit coefficients.
+/// The reduced (or full) linear system of the shell, solved with any aerodynamic model given
+/// in its coordinates.
 class LinearFlutterSystem {
  public:
   /// `modes` > 0: a basis of that many in-vacuo modes; `modes` == 0: the full system.
   /// Throws InputError for supports along rotated directions (not handled yet) and
   /// SolverError when the supported stiffness is singular.
-  LinearFlutterSystem(const shell::ShellModel& model, const PistonTheory& theory, int modes,
-                      const shell::ModalOptions& options = {});
+  LinearFlutterSystem(const shell::ShellModel& model, int modes, const shell::ModalOptions& options = {});
 
-  /// The eigenvalues s with Im s >= 0, one per degree of freedom of the basis (complex pairs
-  /// counted once, real roots by their larger half), ordered by Im s, then Re s.
-  std::vector<std::complex<double>> eigenvalues(double q_stiffness, double q_damping) const;
+  /// A load matrix X on the shell's dofs (force -X u) in this system's coordinates:
+  /// Phi^T X Phi on the modal basis, L^-1 X_mm L^-T on the full system (M_mm = L L^T).
+  Eigen::MatrixXd generalised(const shell::SparseMatrix& X) const;
+
+  /// The eigenvalues s with Im s >= 0 of the shell with this aerodynamic model, ordered by
+  /// Im s, then Re s. A quasi-steady model: one per degree of freedom of the basis (complex
+  /// pairs counted once, real roots by their larger half). A model with states: every root
+  /// with Im s >= 0 (the structure's and the flow's).
+  std::vector<std::complex<double>> eigenvalues(const AeroStateSpace& aero) const;
   /// max Re s (the growth rate of the least stable root) [1/s].
-  double max_growth_rate(double q_stiffness, double q_damping) const;
+  double max_growth_rate(const AeroStateSpace& aero) const;
 
   /// The system on the first k modes of this modal basis (the truncation check).
   LinearFlutterSystem truncated(int k) const;
@@ -53,7 +61,7 @@ class LinearFlutterSystem {
   /// basis only): the state matrix's eigenvector, q = Phi y, its phase turned so that the
   /// largest nodal displacement component is real and 1. Throws SolverError on the full
   /// system.
-  std::pair<std::complex<double>, Eigen::VectorXcd> least_stable_mode(double q_stiffness, double q_damping) const;
+  std::pair<std::complex<double>, Eigen::VectorXcd> least_stable_mode(const AeroStateSpace& aero) const;
   /// The in-vacuo modes of the basis, one column per mode (modal basis only; empty otherwise).
   const Eigen::MatrixXd& basis() const { return basis_; }
 
@@ -64,11 +72,17 @@ class LinearFlutterSystem {
 
  private:
   LinearFlutterSystem() = default;
+  /// The state matrix [0 I 0; -K + D0, D1, C; B0, B1, A] (checked against the system's size).
+  Eigen::MatrixXd state_matrix(const AeroStateSpace& aero) const;
+  Eigen::MatrixXd scaled(Eigen::MatrixXd X) const;  ///< L^-1 X L^-T (full system)
+
   bool modal_ = true;
-  // M^-1-scaled matrices: the state matrix is [0 I; -(K + qA A) -qD D].
-  Eigen::MatrixXd K_, A_, D_;
+  Eigen::MatrixXd K_;      ///< the stiffness in this system's coordinates (M -> I)
   Eigen::MatrixXd basis_;  ///< Phi: the in-vacuo modes in the shell's dofs (modal basis)
   std::vector<double> frequencies_;
+  // Full system: the dofs with mass and the factor of their mass matrix.
+  std::vector<Eigen::Index> mass_;
+  Eigen::LLT<Eigen::MatrixXd> mass_factor_;
 };
 
 enum class FlutterParameter { lambda, mach };
@@ -83,8 +97,9 @@ struct FlutterSetting {
   double mach = 0.0;                ///< the case's Mach number
   bool aerodynamic_damping = true;  ///< false: mu/M -> 0 (lambda sweeps only)
 
-  /// The piston-theory coefficients at a parameter value.
-  std::pair<double, double> coefficients(FlutterParameter p, double value) const;
+  /// The flow at a parameter value (a Mach sweep at fixed rho and p; a lambda sweep at the
+  /// case's rho and M, its speed from lambda).
+  FlowCondition flow(FlutterParameter p, double value) const;
   double lambda_of_mach(double mach) const;  ///< at fixed rho, p
   /// The Mach number above sqrt(2) (where lambda grows with M) at fixed rho, p; NaN when
   /// lambda is below the minimum of lambda(M) (at M = sqrt(2)).
@@ -118,8 +133,9 @@ struct FlutterSweep {
 /// lowest frequency count (and are kept in the points) — for the full system, whose highest
 /// roots are the mesh's thickness-stretch modes. `on_value` (when given) is called after
 /// each eigenvalue solve with the number of values solved so far (progress on large systems).
-FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const FlutterSetting& setting, FlutterParameter parameter,
-                           double lo, double hi, int points, double relative_tolerance = 1e-9, int tracked_roots = 0,
+FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const ModalAerodynamics& aero,
+                           const FlutterSetting& setting, FlutterParameter parameter, double lo, double hi, int points,
+                           double relative_tolerance = 1e-9, int tracked_roots = 0,
                            const std::function<void(int)>& on_value = {});
 
 /// The seconds one dense nonsymmetric eigenvalue solve (values only) of size n x n takes on
