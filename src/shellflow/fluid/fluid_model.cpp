@@ -48,15 +48,15 @@ FluidModel::FluidModel(mesh::Mesh mesh, FluidOptions options, std::vector<Bounda
 void FluidModel::set_state(const std::function<Primitive(const Vec3&)>& field) {
   for (Index a = 0; a < mesh_.num_nodes(); ++a) state_.set(a, to_conservative(options_.gas, field(x_[std::size_t(a)])));
   boundaries_.apply(options_.gas, time_, x_, w_, state_, true);
-  exchange_state();
+  exchange(state_);
   check_positivity(state_, time_);
   viscosity_valid_ = false;
 }
 
-void FluidModel::exchange_state() {
+void FluidModel::exchange(FluidState& u) {
   if (!distribution_.exchange) return;
   double* fields[num_variables];
-  for (int v = 0; v < num_variables; ++v) fields[v] = state_.var[std::size_t(v)].data();
+  for (int v = 0; v < num_variables; ++v) fields[v] = u.var[std::size_t(v)].data();
   distribution_.exchange(fields);
 }
 
@@ -65,7 +65,7 @@ void FluidModel::set_state(const FluidState& state) {
     throw InputError(
         fmt::format("fluid state has {} nodes, mesh '{}' has {}", state.size(), mesh_.name, mesh_.num_nodes()));
   state_ = state;
-  exchange_state();
+  exchange(state_);
   viscosity_valid_ = false;
 }
 
@@ -179,7 +179,7 @@ void FluidModel::set_distribution(Distribution distribution) {
                     "<= {} nodes",
                     mesh_.name, mesh_.num_nodes()));
   distribution_ = std::move(distribution);
-  exchange_state();  // the ghosts' boundary conditions used the rank's partial wall normals
+  exchange(state_);  // the ghosts' boundary conditions used the rank's partial wall normals
   viscosity_valid_ = false;
 }
 
@@ -216,7 +216,46 @@ void FluidModel::step_local(double cfl) {
   advance(dt_min, x_, {}, true);
 }
 
+// One step in stages (fluid.md §7): the mesh velocity, the artificial viscosity, the residual,
+// the mass inverse, then the new state's geometry and boundary conditions, its ghosts'
+// exchange, its checks, the monitor, and the commit. A failed step leaves the model as it was.
 void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w, bool local) {
+  check_step_input(dt, x_next, w);
+  const bool moves = x_next.data() != x_.data();
+  StepClock clock;
+  const bool mesh_moves = step_mesh_velocity(dt, x_next, w);
+  clock.lap(timings_.mesh_velocity);
+  update_viscosity();
+  clock.lap(timings_.viscosity);
+  ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction, mesh_moves, {}, {}};
+  if (local) {
+    p.element_dt = element_dt_;
+    p.nodal_dt = nodal_dt_;
+  }
+  assemble_step_residual(p, w_next_);
+  clock.lap(timings_.element_pass);
+  const double t_next = time_ + dt;
+  apply_mass_inverse(residual_, t_next, x_next, state_, next_state_);
+  clock.lap(timings_.update);
+  bool normals_moved = false;
+  std::string failure = moves ? move_geometry(x_next, normals_moved, clock) : std::string();
+  if (failure.empty()) boundaries_.apply(options_.gas, t_next, x_next, w_next_, next_state_);
+  exchange(next_state_);
+  clock.lap(timings_.boundary);
+  check_next_state(t_next, std::move(failure), normals_moved);
+  density_rate_ = step_density_rate(dt, local);
+  commit_step(t_next, x_next, moves);
+  clock.lap(timings_.checks);
+  ++timings_.steps;
+}
+
+void FluidModel::StepClock::lap(double& part) {
+  const auto now = std::chrono::steady_clock::now();
+  part += std::chrono::duration<double>(now - last).count();
+  last = now;
+}
+
+void FluidModel::check_step_input(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w) const {
   const Index nn = mesh_.num_nodes();
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw SolverError(fmt::format("fluid time step {} at t = {} is not positive", dt, time_));
@@ -225,68 +264,46 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
         fmt::format("fluid mesh motion: {} positions and {} velocities for {} "
                     "nodes",
                     x_next.size(), w.size(), nn));
-  const bool moves = x_next.data() != x_.data();
-  using Clock = std::chrono::steady_clock;
-  auto clock = Clock::now();
-  const auto lap = [&](double& part) {
-    const auto now = Clock::now();
-    part += std::chrono::duration<double>(now - clock).count();
-    clock = now;
-  };
-  // Mesh velocity of the step (a member: no allocation per step once sized).
+}
+
+bool FluidModel::step_mesh_velocity(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w) {
+  // A member: no allocation per step once sized.
+  const Index nn = mesh_.num_nodes();
   w_next_.resize(std::size_t(nn));
-  auto& w_step = w_next_;
   const bool moves_here = reduce_items(
       nn, parallel::kNodeGrain, node_parallel_threshold, false,
       [&](Index a) {
         const auto i = std::size_t(a);
         const Vec3 v = !w.empty() ? w[i] : Vec3((x_next[i] - x_[i]) / dt);
-        w_step[i] = v;
+        w_next_[i] = v;
         return v.x() != 0.0 || v.y() != 0.0 || v.z() != 0.0;
       },
       [](bool p, bool q) { return p || q; });
-  const bool distributed = bool(distribution_.exchange);
   // Every rank takes the ALE terms if the mesh moves anywhere (the same bits on any rank count).
-  const bool mesh_moves = distributed ? distribution_.min(moves_here ? 0.0 : 1.0) == 0.0 : moves_here;
-  lap(timings_.mesh_velocity);
-  update_viscosity();
-  lap(timings_.viscosity);
-  ResidualParameters p{options_.gas, dt, options_.tg_velocity, options_.moving_mesh_correction, mesh_moves, {}, {}};
-  if (local) {
-    p.element_dt = element_dt_;
-    p.nodal_dt = nodal_dt_;
-  }
-  assemble_step_residual(p, w_step);
-  lap(timings_.element_pass);
-  apply_mass_inverse(residual_, time_ + dt, x_next, state_, next_state_);
+  return distribution_.exchange ? distribution_.min(moves_here ? 0.0 : 1.0) == 0.0 : moves_here;
+}
 
-  lap(timings_.update);
-  const double t_next = time_ + dt;
-  // A failed step (inverted element, non-physical state) leaves the model as it was. On ranks the
-  // failure found on one rank is kept until the step's exchange is done, then agreed on.
+std::string FluidModel::move_geometry(std::span<const Vec3> x_next, bool& normals_moved, StepClock& clock) {
+  // On ranks the failure found on one rank is kept until the step's exchange is done, then
+  // agreed on (check_next_state).
   std::string failure;
-  bool normals_moved = false;
-  if (moves) {
-    try {
-      compute_geometry(x_next, loop(), next_geometry_);  // throws before anything changes
-    } catch (const SolverError& e) {
-      if (!distributed) throw;
-      failure = e.what();
-    }
-    lap(timings_.geometry);
-    if (failure.empty()) {
-      boundaries_.update_normals(x_next);
-      normals_moved = true;
-    }
-    lap(timings_.normals);
+  try {
+    compute_geometry(x_next, loop(), next_geometry_);  // throws before anything changes
+  } catch (const SolverError& e) {
+    if (!distribution_.exchange) throw;
+    failure = e.what();
   }
-  if (failure.empty()) boundaries_.apply(options_.gas, t_next, x_next, w_step, next_state_);
-  if (distributed) {
-    double* fields[num_variables];
-    for (int v = 0; v < num_variables; ++v) fields[v] = next_state_.var[std::size_t(v)].data();
-    distribution_.exchange(fields);
+  clock.lap(timings_.geometry);
+  if (failure.empty()) {
+    boundaries_.update_normals(x_next);
+    normals_moved = true;
   }
-  lap(timings_.boundary);
+  clock.lap(timings_.normals);
+  return failure;
+}
+
+void FluidModel::check_next_state(double t_next, std::string failure, bool normals_moved) {
+  const bool distributed = bool(distribution_.exchange);
   try {
     if (failure.empty()) check_positivity(next_state_, t_next);
   } catch (const SolverError& e) {
@@ -301,9 +318,25 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     if (normals_moved) boundaries_.update_normals(x_);
     throw SolverError(failure);
   }
+}
 
+double FluidModel::step_density_rate(double dt, bool local) {
   // Steady-state residual: RMS of d(rho)/dt over the nodes, summed in fixed chunks (the
   // same bits whatever the thread count).
+  const Index nn = mesh_.num_nodes();
+  const auto rate = [&](Index a) {
+    return (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
+           (local ? nodal_dt_[std::size_t(a)] : dt);
+  };
+  if (distribution_.exchange) {
+    // Over the owned nodes (ghosts would count twice), the same on every rank.
+    double owned2 = 0.0;
+    for (Index a = 0; a < distribution_.owned; ++a) {
+      const double d = rate(a);
+      owned2 += d * d;
+    }
+    return std::sqrt(distribution_.sum(owned2) / distribution_.sum(double(distribution_.owned)));
+  }
   constexpr Index chunk = 4096;
   const Index num_chunks = (nn + chunk - 1) / chunk;
   rate_sums_.resize(std::size_t(num_chunks));
@@ -312,8 +345,7 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
     for (Index b = begin / chunk; b * chunk < end; ++b) {
       double sum = 0.0;
       for (Index a = b * chunk; a < std::min(end, (b + 1) * chunk); ++a) {
-        const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
-                         (local ? nodal_dt_[std::size_t(a)] : dt);
+        const double d = rate(a);
         sum += d * d;
       }
       rate_sums_[std::size_t(b)] = sum;
@@ -321,17 +353,10 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   });
   double rate2 = 0.0;
   for (const double sum : rate_sums_) rate2 += sum;
-  density_rate_ = std::sqrt(rate2 / nn);
-  if (distributed) {
-    // Over the owned nodes (ghosts would count twice), the same on every rank.
-    double owned2 = 0.0;
-    for (Index a = 0; a < distribution_.owned; ++a) {
-      const double d = (next_state_.var[0][std::size_t(a)] - state_.var[0][std::size_t(a)]) /
-                       (local ? nodal_dt_[std::size_t(a)] : dt);
-      owned2 += d * d;
-    }
-    density_rate_ = std::sqrt(distribution_.sum(owned2) / distribution_.sum(double(distribution_.owned)));
-  }
+  return std::sqrt(rate2 / nn);
+}
+
+void FluidModel::commit_step(double t_next, std::span<const Vec3> x_next, bool moves) {
   std::swap(state_, next_state_);
   if (moves) {
     std::swap(geometry_, next_geometry_);
@@ -341,8 +366,6 @@ void FluidModel::advance(double dt, std::span<const Vec3> x_next, std::span<cons
   time_ = t_next;
   ++steps_;
   viscosity_valid_ = false;
-  lap(timings_.checks);
-  ++timings_.steps;
 }
 
 void FluidModel::assemble_step_residual(const ResidualParameters& p, std::span<const Vec3> w_step) {

@@ -8,6 +8,7 @@
 // A failed step (inverted element, negative density or pressure) throws SolverError and
 // leaves the model at the last valid state, so the caller can still write it.
 #include <array>
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <span>
@@ -222,9 +223,28 @@ class FluidModel {
   std::size_t memory_bytes() const;
 
  private:
-  /// Ghost entries of the state from their owners (a distributed model; else nothing).
-  void exchange_state();
+  /// Ghost entries of a state from their owners (a distributed model; else nothing).
+  void exchange(FluidState& u);
+
+  // The step and its stages (fluid_model.cpp: advance).
   void advance(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w, bool local);
+  /// Adds the time since the last lap to a part of timings_.
+  struct StepClock {
+    std::chrono::steady_clock::time_point last = std::chrono::steady_clock::now();
+    void lap(double& part);
+  };
+  void check_step_input(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w) const;
+  /// w_next_ of the step; returns whether the mesh moves on any rank.
+  bool step_mesh_velocity(double dt, std::span<const Vec3> x_next, std::span<const Vec3> w);
+  /// next_geometry_ and the wall normals at x_next; on ranks a failure is returned (to be
+  /// agreed on after the exchange), in one process thrown.
+  std::string move_geometry(std::span<const Vec3> x_next, bool& normals_moved, StepClock& clock);
+  /// Positivity of next_state_ and the agreement on a failure; throws SolverError with the
+  /// normals restored.
+  void check_next_state(double t_next, std::string failure, bool normals_moved);
+  /// The steady-state monitor: RMS of d(rho)/dt over the (owned) nodes.
+  double step_density_rate(double dt, bool local);
+  void commit_step(double t_next, std::span<const Vec3> x_next, bool moves);
   void check_cfl(double cfl) const;
   /// next_state_ = U^n + M^-1 r (lumped, or the consistent mass's sweeps with the constraints
   /// of the values at t_end imposed in each).
