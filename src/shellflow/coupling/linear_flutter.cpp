@@ -96,7 +96,7 @@ LinearFlutterSystem LinearFlutterSystem::truncated(int k) const {
   return t;
 }
 
-Eigen::MatrixXd LinearFlutterSystem::state_matrix(const AeroStateSpace& aero) const {
+void LinearFlutterSystem::check_sizes(const AeroStateSpace& aero) const {
   const Eigen::Index n = K_.rows(), m = aero.states();
   const auto check = [&](const Eigen::MatrixXd& X, Eigen::Index rows, Eigen::Index cols, const char* name) {
     if (X.rows() != rows || X.cols() != cols)
@@ -111,6 +111,11 @@ Eigen::MatrixXd LinearFlutterSystem::state_matrix(const AeroStateSpace& aero) co
     check(aero.B1, m, n, "B1");
     check(aero.C, n, m, "C");
   }
+}
+
+Eigen::MatrixXd LinearFlutterSystem::state_matrix(const AeroStateSpace& aero) const {
+  check_sizes(aero);
+  const Eigen::Index n = K_.rows(), m = aero.states();
   Eigen::MatrixXd S = Eigen::MatrixXd::Zero(2 * n + m, 2 * n + m);
   S.block(0, n, n, n).setIdentity();
   S.block(n, 0, n, n) = -K_ + aero.D0;
@@ -155,7 +160,7 @@ std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(const AeroSta
     // The full system's roots span ~1e3 to ~1e7 rad/s: the QR iteration's error ~ eps ||S||
     // would swamp the panel's roots. Its inverse [Kq^-1 D1, -Kq^-1; I, 0] (Kq = K - D0) has
     // them as its largest eigenvalues 1/s, to round-off relative to themselves.
-    state_matrix(aero);  // the size checks
+    check_sizes(aero);
     S = Eigen::MatrixXd::Zero(2 * n, 2 * n);
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(K_ - aero.D0);
     S.topLeftCorner(n, n) = lu.solve(aero.D1);

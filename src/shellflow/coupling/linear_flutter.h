@@ -74,6 +74,8 @@ class LinearFlutterSystem {
   LinearFlutterSystem() = default;
   /// The state matrix [0 I 0; -K + D0, D1, C; B0, B1, A] (checked against the system's size).
   Eigen::MatrixXd state_matrix(const AeroStateSpace& aero) const;
+  /// Throws SolverError when the model's blocks do not fit the system's size.
+  void check_sizes(const AeroStateSpace& aero) const;
   Eigen::MatrixXd scaled(Eigen::MatrixXd X) const;  ///< L^-1 X L^-T (full system)
 
   bool modal_ = true;
