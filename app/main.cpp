@@ -151,6 +151,8 @@ int main(int argc, char** argv) {
     }
   }
   const Outcome outcome = run_command(commands);
+  // Rank 0 may still have its error to say when another rank has left and mpirun ends the job.
+  run::quiet_stop_signals();
   if (outcome.code == 0 || outcome.code == app::kStoppedExitCode) return outcome.code;
   // An error on ranks: when every rank leaves with it (the errors they agree on), rank 0 says
   // it; when a rank is left waiting for this one (an error only it saw), this rank says it and

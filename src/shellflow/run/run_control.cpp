@@ -22,8 +22,9 @@ namespace fs = std::filesystem;
 namespace {
 
 volatile std::sig_atomic_t g_stop_signal = 0;
-bool g_armed_for_the_process = false;  // arm_stop_signals()
-timespec g_first_signal{};             // when the first one came (CLOCK_MONOTONIC)
+bool g_armed_for_the_process = false;    // arm_stop_signals()
+volatile std::sig_atomic_t g_quiet = 0;  // quiet_stop_signals()
+timespec g_first_signal{};               // when the first one came (CLOCK_MONOTONIC)
 
 extern "C" void on_stop_signal(int sig) {
   timespec now{};
@@ -40,6 +41,7 @@ extern "C" void on_stop_signal(int sig) {
   }
   g_first_signal = now;
   g_stop_signal = sig;
+  if (g_quiet != 0) return;  // the command has ended
   constexpr char message[] =
       "\nshellflow: stopping after the current step with a checkpoint (signal again after a second to stop at "
       "once)\n";
@@ -67,6 +69,8 @@ void arm_stop_signals() {
   install_stop_handler(nullptr, nullptr, nullptr);
   g_armed_for_the_process = true;
 }
+
+void quiet_stop_signals() { g_quiet = 1; }
 
 bool stop_signal_received(const dist::Communicator* ranks) {
   const bool here = g_stop_signal != 0;

@@ -38,6 +38,10 @@ inline constexpr int kStoppedExitCode = 75;
 /// rank and lets the job end with the ranks' exit code (75), where SIGINT/SIGTERM make it kill
 /// the ranks a second later and exit 1 (docs/parallel.md).
 void arm_stop_signals();
+/// Once the command has ended: a stop signal is still caught (a launcher that ends the other
+/// ranks of a job when one leaves with an error sends SIGTERM) but announces no stop, because
+/// there is no step left to stop after; the process goes on to say its error and leave.
+void quiet_stop_signals();
 /// Whether a stop signal came, on any of `ranks` (null: this process); every rank calls it at
 /// the same point.
 bool stop_signal_received(const dist::Communicator* ranks);
