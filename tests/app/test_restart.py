@@ -332,7 +332,7 @@ class RestartSignals(unittest.TestCase):
         # the study exits 1 naming it, and the same command runs it once the lock is gone).
         case = os.path.join(CASES, "panel_flutter", "clamped_sliding_piston_monolithic.yaml")
         args = ["--no-plot", "-j", "2", "--set", "study.range=[1.95, 2.1]", "--set", "study.points=2",
-                "--set", "study.max_refinements=0", "--set", "study.set={time.end: 0.12}"]
+                "--set", "study.max_refinements=0", "--set", "study.set={time.end: 0.06}"]
         straight = os.path.join(self.dir, "study_straight")
         r = shellflow("study", case, "-o", straight, *args)
         self.assertEqual(r.returncode, 0, r.stderr)
