@@ -15,6 +15,8 @@
 #include "../shell/structured_shell_mesh.h"
 #include "coupling_test_util.h"
 #include "shellflow/core/error.h"
+#include "shellflow/coupling/discrete_flutter.h"
+#include "shellflow/coupling/gaf_identification.h"
 #include "shellflow/coupling/linear_flutter.h"
 #include "shellflow/coupling/modal_aerodynamics.h"
 #include "shellflow/coupling/piston_theory.h"
@@ -326,6 +328,118 @@ TEST(LinearFlutter, AModelOfTheWrongSizeIsRefused) {
   EXPECT_NO_THROW(sys.eigenvalues(aero));
   aero.D1 = Eigen::MatrixXd::Zero(3, 3);
   EXPECT_THROW(sys.eigenvalues(aero), SolverError);
+}
+
+// ---- the discrete-time path (discrete_flutter.h) ---------------------------------------------
+
+/// A model without memory: D alone, at step dt.
+DiscreteStateSpace feedthrough(const Eigen::MatrixXd& D, double dt) {
+  FirModel fir;
+  fir.dt = dt;
+  fir.taps = {D};
+  return fir.state_space();
+}
+
+TEST(DiscreteFlutter, WithoutAFlowEveryRootIsNewmarksUndampedFrequency) {
+  // Newmark's average acceleration keeps |z| = 1 and turns omega into (2/dt) atan(omega dt/2).
+  const LinearFlutterSystem sys(strip(20, Edges::clamped), 8);
+  const double dt = 1e-4;
+  const auto roots = discrete_eigenvalues(sys, feedthrough(Eigen::MatrixXd::Zero(8, 8), dt), 1.0);
+  ASSERT_EQ(roots.size(), 8u);
+  for (std::size_t k = 0; k < 8; ++k) {
+    const double omega = 2 * pi * sys.in_vacuo_frequencies()[k];
+    const double newmark = 2.0 / dt * std::atan(0.5 * omega * dt);
+    EXPECT_NEAR(roots[k].imag(), newmark, 1e-12 * newmark) << "mode " << k + 1;
+    EXPECT_NEAR(roots[k].real(), 0.0, 1e-12 * newmark) << "mode " << k + 1;
+  }
+}
+
+TEST(DiscreteFlutter, AQuasiSteadyModelIsNewmarkOfTheAerodynamicStiffness) {
+  // D = piston theory's stiffness part at lambda 800: the roots are Newmark's of K - D, i.e.
+  // for every eigenvalue mu of K - D, z = (1 - h mu +- i dt sqrt(mu)) / (1 + h mu), h = dt^2/4;
+  // they converge to the continuous roots at second order in dt.
+  const shell::ShellModel model = strip(20, Edges::clamped);
+  const LinearFlutterSystem sys(model, 8);
+  const PistonAerodynamics aero(sys, piston(model));
+  const FlowCondition flow = setting(false).flow(FlutterParameter::lambda, 800.0);
+  const Eigen::MatrixXd D = aero.at_coefficients(flow.dynamic_pressure_over_beta, 0.0).D0;
+  const auto continuous = sys.eigenvalues(aero.at_coefficients(flow.dynamic_pressure_over_beta, 0.0));
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(sys.stiffness() - D, false);
+  double previous = 0.0;
+  for (const double dt : {2e-4, 1e-4, 5e-5}) {
+    const auto roots = discrete_eigenvalues(sys, feedthrough(D, dt), 1.0);
+    ASSERT_EQ(roots.size(), 8u);
+    const double h = 0.25 * dt * dt;
+    for (const auto& root : roots) {
+      double nearest = 1e300;
+      for (const std::complex<double> mu : es.eigenvalues())
+        for (const double sign : {1.0, -1.0}) {
+          const std::complex<double> z =
+              (1.0 - h * mu + sign * std::complex<double>(0, dt) * std::sqrt(mu)) / (1.0 + h * mu);
+          nearest = std::min(nearest, std::abs(std::log(z) / dt - root));
+        }
+      EXPECT_LT(nearest, 1e-9 * std::abs(root)) << "dt " << dt << " root " << root;
+    }
+    // The lowest pair (s and -conj(s), one frequency) against the continuous system.
+    double error = 0.0;
+    for (std::size_t k = 0; k < 2; ++k) {
+      double nearest = 1e300;
+      for (const auto& root : roots) nearest = std::min(nearest, std::abs(root - continuous[k]));
+      error += nearest;
+    }
+    std::printf("dt %.0e: lowest roots %.4f%+.4fi, %.4f%+.4fi; continuous %.4f%+.4fi; error %.3e\n", dt,
+                roots[0].real(), roots[0].imag(), roots[1].real(), roots[1].imag(), continuous[0].real(),
+                continuous[0].imag(), error);
+    if (previous > 0.0) {
+      EXPECT_NEAR(previous / error, 4.0, 0.2);
+    }
+    previous = error;
+  }
+}
+
+TEST(DiscreteFlutter, TheStepMatrixIsOneNewmarkStepWithTheModelsMemory) {
+  // An independent time loop: Newmark solved for q_{n+1} with f_{n+1} = s sum_j H_j q_{n+1-j}
+  // (the FIR itself, zero history), against T^n [q0; v0; 0].
+  const LinearFlutterSystem sys(strip(8, Edges::clamped), 4);
+  const double dt = 1e-4, scale = 3e4;
+  FirModel fir;
+  fir.dt = dt;
+  for (int j = 0; j < 3; ++j) fir.taps.push_back(Eigen::MatrixXd::Random(4, 4) * std::pow(0.5, j));
+  const DiscreteStateSpace ss = fir.state_space();
+  const Eigen::MatrixXd T = discrete_step_matrix(sys, ss, scale);
+  ASSERT_EQ(T.rows(), 2 * 4 + 8);
+  const Eigen::MatrixXd& K = sys.stiffness();
+  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(4, 4);
+  std::vector<Eigen::VectorXd> q{Eigen::VectorXd::Random(4) * 1e-6};
+  Eigen::VectorXd v = Eigen::VectorXd::Random(4) * 1e-3;
+  const auto force = [&](std::size_t n) {  // f_n from q_n, q_{n-1}, q_{n-2}
+    Eigen::VectorXd f = Eigen::VectorXd::Zero(4);
+    for (std::size_t j = 0; j < fir.taps.size() && j <= n; ++j) f += scale * fir.taps[j] * q[n - j];
+    return f;
+  };
+  Eigen::VectorXd acc = -K * q[0] + force(0);
+  Eigen::VectorXd Y = Eigen::VectorXd::Zero(T.rows());
+  Y.head(4) = q[0];
+  Y.segment(4, 4) = v;
+  const double h = 0.25 * dt * dt;
+  for (std::size_t n = 0; n < 30; ++n) {
+    Eigen::VectorXd memory = Eigen::VectorXd::Zero(4);  // the taps j >= 1 of f_{n+1}
+    for (std::size_t j = 1; j < fir.taps.size() && j <= n + 1; ++j) memory += scale * fir.taps[j] * q[n + 1 - j];
+    const Eigen::VectorXd next = (I + h * K - h * scale * fir.taps[0]).lu().solve(q[n] + dt * v + h * acc + h * memory);
+    q.push_back(next);
+    const Eigen::VectorXd acc_next = -K * next + force(n + 1);
+    v += 0.5 * dt * (acc + acc_next);
+    acc = acc_next;
+    Y = T * Y;
+    EXPECT_LT((Y.head(4) - next).norm(), 1e-10 * next.norm()) << "step " << n + 1;
+    EXPECT_LT((Y.segment(4, 4) - v).norm(), 1e-10 * v.norm()) << "step " << n + 1;
+  }
+}
+
+TEST(DiscreteFlutter, AModelOfTheWrongSizeIsRefused) {
+  const LinearFlutterSystem sys(strip(8, Edges::clamped), 4);
+  EXPECT_THROW((void)discrete_eigenvalues(sys, feedthrough(Eigen::MatrixXd::Zero(3, 3), 1e-4), 1.0), SolverError);
+  EXPECT_THROW((void)discrete_eigenvalues(sys, feedthrough(Eigen::MatrixXd::Zero(4, 4), 0.0), 1.0), SolverError);
 }
 
 }  // namespace

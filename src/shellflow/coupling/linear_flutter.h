@@ -66,6 +66,8 @@ class LinearFlutterSystem {
   const Eigen::MatrixXd& basis() const { return basis_; }
 
   Eigen::Index size() const { return static_cast<Eigen::Index>(K_.rows()); }
+  /// The stiffness in this system's coordinates, where the mass is the identity.
+  const Eigen::MatrixXd& stiffness() const { return K_; }
   bool modal() const { return modal_; }
   /// In-vacuo frequencies of the basis [Hz] (modal basis only; empty for the full system).
   const std::vector<double>& in_vacuo_frequencies() const { return frequencies_; }

@@ -11,8 +11,8 @@
 //   D0 = -(rho U^2 / beta) A1,   D1 = -(rho U c / beta) D1',   c = (M^2 - 2) / (M^2 - 1),
 // with A1, D1' its matrices per unit coefficient (piston_theory.h) in the system's coordinates.
 // A model identified from a flow solver comes as a discrete-time model at the shell step; the
-// zero-order-hold conversion to this form would delay its forces by half a step, so it will
-// get a discrete path of its own (docs/flutter.md, "Aerodynamic models").
+// zero-order-hold conversion to this form would delay its forces by half a step, so it has a
+// discrete path of its own (discrete_flutter.h; docs/flutter.md, "Aerodynamic models").
 #include <Eigen/Core>
 #include <memory>
 #include <string>
