@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "commands.h"
-#include "shellflow/dist/communicator.h"
+#include "shellflow/mpi/communicator.h"
 #include "shellflow/run/run.h"
 
 namespace shellflow::app {
@@ -19,7 +19,7 @@ int run_command(const CommonOptions& options, const StopOptions& stop) {
   // On ranks every rank reads the case: an error that only some see (a --set on one part of
   // an MPMD line, a case file missing on one node) ends every rank with the first one's line.
   std::optional<io::Case> read;
-  dist::on_every_rank(options.ranks, [&] { read.emplace(read_case(options)); });
+  mpi::on_every_rank(options.ranks, [&] { read.emplace(read_case(options)); });
   const io::Case& c = *read;
   return run::run_case(c, {.case_file = options.case_file,
                            .output_dir = options.output_dir,

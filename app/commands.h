@@ -26,7 +26,7 @@ struct CommonOptions {
   std::optional<std::filesystem::path> output_dir;  ///< -o; default: the case's output.directory
   bool plot = true;                                 ///< make the PNG plot at the end
   std::vector<std::string> overrides;               ///< --set KEY=VALUE, applied to the case file
-  const dist::Communicator* ranks = nullptr;        ///< started by mpirun with several ranks
+  const mpi::Communicator* ranks = nullptr;         ///< started by mpirun with several ranks
 };
 
 /// A subcommand of the command line: its CLI11 definition and what runs it once parsed (with the

@@ -29,8 +29,8 @@
 #include "shellflow/core/error.h"
 #include "shellflow/core/output_file.h"
 #include "shellflow/core/version.h"
-#include "shellflow/dist/communicator.h"
 #include "shellflow/fluid/residual.h"
+#include "shellflow/mpi/communicator.h"
 #include "shellflow/run/run_control.h"
 
 namespace {
@@ -46,7 +46,7 @@ int launcher_ranks() {
 /// can): MPI disagrees (the variables are left over, no launcher started it), or the command
 /// does not run on ranks (said by rank 0; the other ranks get "" and a world of size > 1).
 std::string check_launch(int launched, bool is_run) {
-  const shellflow::dist::Communicator& world = shellflow::dist::Communicator::world();
+  const shellflow::mpi::Communicator& world = shellflow::mpi::Communicator::world();
   if (world.size() != launched)
     return fmt::format(
         "the environment says this process is one of {} MPI ranks (OMPI_COMM_WORLD_SIZE or PMI_SIZE) but MPI "
@@ -143,7 +143,7 @@ int main(int argc, char** argv) {
       return 1;
     }
     if (!*run) return 1;  // rank 0 said why
-    options.ranks = &dist::Communicator::world();
+    options.ranks = &mpi::Communicator::world();
     if (options.ranks->rank() != 0) {
       set_process_writes_files(false);
       spdlog::set_level(spdlog::level::off);

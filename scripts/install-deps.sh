@@ -11,7 +11,7 @@ packages=(
   libomp-dev libgtest-dev libgmock-dev libbenchmark-dev libsuitesparse-dev
   # serial METIS 5.1: partitions of the fluid mesh (mesh/partition.h)
   libmetis-dev
-  # OpenMPI 4.1: the ranks of distributed runs (src/shellflow/dist, CTest label mpi)
+  # OpenMPI 4.1: the ranks of distributed runs (src/shellflow/mpi, CTest label mpi)
   libopenmpi-dev openmpi-bin
   python3 python3-matplotlib python3-numpy python3-meshio
   # the fuzz preset (tests/fuzz): clang with libFuzzer and the sanitizer runtimes

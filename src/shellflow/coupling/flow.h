@@ -65,7 +65,7 @@ class FlowModel final : public AerodynamicModel {
   /// rank (replicated: the same bits everywhere). `gather(nodes, values)`: values[k] of whole
   /// node nodes[k] from the rank owning it (each rank fills those it owns), on every rank.
   /// `save_flow` / `restore_flow`: the flow's state in the whole mesh's form
-  /// (dist/flow_distribution.h). Throws InputError for a wall with shear (viscous coupling is
+  /// (mpi/flow_distribution.h). Throws InputError for a wall with shear (viscous coupling is
   /// not distributed yet).
   struct Distribution {
     std::vector<Index> whole_of_local;

@@ -158,7 +158,7 @@ class FluidModel {
   /// as in one process. `min` is the minimum over the ranks (the stable time step, whether the
   /// mesh moves); `sum` a sum over the ranks whose bits are the same on every rank (the density
   /// rate over the `owned` first nodes, so that every rank takes the same steady-state
-  /// decision); `first_error` the agreement on a failed step (dist::Communicator::first_error):
+  /// decision); `first_error` the agreement on a failed step (mpi::Communicator::first_error):
   /// an inverted element or a non-physical state found on one rank fails the step on every
   /// rank with the same line, after the step's exchanges, so no rank waits for another. Lumped
   /// mass only. Every rank must call step, stable_dt and nodal_artificial_viscosity in the same

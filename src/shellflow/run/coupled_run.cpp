@@ -7,7 +7,7 @@
 #include <optional>
 
 #include "shellflow/core/error.h"
-#include "shellflow/dist/flow_distribution.h"
+#include "shellflow/mpi/flow_distribution.h"
 #include "shellflow/run/coupling_log.h"
 #include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/quality_history.h"
@@ -113,29 +113,29 @@ void run_coupled(const RunContext& run) {
   ResponseOutput response(run.c, run.outdir);
   // On ranks the flow runs on the rank's part; the shell, the space mesh and the maps are
   // whole on every rank (docs/parallel.md).
-  const dist::Communicator* ranks = run.ranks;
-  std::optional<dist::HaloExchange> halo;
+  const mpi::Communicator* ranks = run.ranks;
+  std::optional<mpi::HaloExchange> halo;
   setup::CoupledRanks on_ranks;
   if (ranks) {
     on_ranks = {ranks->rank(), ranks->size(),
                 [&](const setup::FlowPart& part, fluid::FluidModel& flow, coupling::FlowModel& model) {
                   halo.emplace(*ranks, part.local);
-                  flow.set_distribution(dist::flow_distribution(*ranks, *halo, part.local));
+                  flow.set_distribution(mpi::flow_distribution(*ranks, *halo, part.local));
                   model.set_distribution({part.local.nodes, part.node_owner, ranks->rank(),
                                           [ranks](std::span<const int> owners, std::span<double> values) {
-                                            dist::gather_from_owners(*ranks, owners, values);
+                                            mpi::gather_from_owners(*ranks, owners, values);
                                           },
                                           [&flow, &part, ranks](ArchiveWriter& out) {
-                                            dist::save_whole(flow, *ranks, part.local, part.whole_nodes, out);
+                                            mpi::save_whole(flow, *ranks, part.local, part.whole_nodes, out);
                                           },
                                           [&flow, &part, ranks](ArchiveReader& in) {
-                                            dist::restore_whole(flow, *ranks, part.local, part.whole_nodes, in);
+                                            mpi::restore_whole(flow, *ranks, part.local, part.whole_nodes, in);
                                           }});
                 }};
   }
   setup::CoupledSystem s;
   std::optional<FluidPieces> pieces;
-  dist::on_every_rank(ranks, [&] {
+  mpi::on_every_rank(ranks, [&] {
     s = setup::build_coupled_system(run.c, run.meshes, ranks ? &on_ranks : nullptr);
     if (s.part) pieces.emplace(make_fluid_pieces(*s.flow->flow(), *s.part, s.new_index, *ranks, run.recorder.probes()));
   });

@@ -9,7 +9,7 @@
 namespace shellflow::run {
 
 FluidPieces make_fluid_pieces(const fluid::FluidModel& model, const setup::FlowPart& part,
-                              std::span<const Index> new_index, const dist::Communicator& ranks,
+                              std::span<const Index> new_index, const mpi::Communicator& ranks,
                               const io::ProbeSet& probes) {
   const mesh::LocalPart& local = part.local;
   const mesh::Mesh& model_mesh = model.mesh();
@@ -57,7 +57,7 @@ ProbeGather::ProbeGather(const FluidPieces& pieces, std::vector<Quantity> quanti
 }
 
 void ProbeGather::refresh() {
-  const dist::Communicator& ranks = *pieces_.ranks;
+  const mpi::Communicator& ranks = *pieces_.ranks;
   owners_.resize(pieces_.probed.size());
   for (std::size_t s = 0; s < pieces_.probed.size(); ++s) {
     const auto i = std::size_t(pieces_.probed[s]);
@@ -66,7 +66,7 @@ void ProbeGather::refresh() {
     for (std::size_t q = 0; q < quantities_.size(); ++q)
       value_(q, pieces_.case_to_model[i], values_.data() + s * per_node_ + offset_[q]);
   }
-  dist::gather_from_owners(ranks, owners_, values_, int(per_node_));
+  mpi::gather_from_owners(ranks, owners_, values_, int(per_node_));
 }
 
 const double* ProbeGather::at(Index case_node) const {

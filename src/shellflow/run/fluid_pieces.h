@@ -7,16 +7,16 @@
 #include <string_view>
 #include <vector>
 
-#include "shellflow/dist/communicator.h"
 #include "shellflow/io/probes.h"
 #include "shellflow/mesh/mesh.h"
+#include "shellflow/mpi/communicator.h"
 #include "shellflow/setup/fluid_setup.h"
 
 namespace shellflow::run {
 
 /// The fluid frames' piece of one rank and the maps from case nodes to its model.
 struct FluidPieces {
-  const dist::Communicator* ranks = nullptr;
+  const mpi::Communicator* ranks = nullptr;
   mesh::Mesh piece;                   ///< the cells whose first node the rank owns, on the nodes they use
   std::vector<Index> piece_to_model;  ///< model node of each piece node
   std::vector<Index> case_to_model;   ///< model node of each case node; -1: not on this rank
@@ -27,7 +27,7 @@ struct FluidPieces {
 /// The pieces of `model`, rank ranks.rank()'s part `part` of a flow whose case nodes are the
 /// whole mesh's nodes new_index, for the probes `probes`.
 FluidPieces make_fluid_pieces(const fluid::FluidModel& model, const setup::FlowPart& part,
-                              std::span<const Index> new_index, const dist::Communicator& ranks,
+                              std::span<const Index> new_index, const mpi::Communicator& ranks,
                               const io::ProbeSet& probes);
 
 /// The probed nodes' values of some nodal quantities, gathered from their owners: refresh()

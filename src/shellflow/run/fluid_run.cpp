@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "shellflow/dist/flow_distribution.h"
+#include "shellflow/mpi/flow_distribution.h"
 #include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/run_kinds.h"
 #include "shellflow/run/time_loop.h"
@@ -36,16 +36,16 @@ void run_fluid(const RunContext& run) {
   const io::FluidAnalysis& analysis = *section.analysis;
   // 1. The flow (renumbered mesh, boundary conditions, initial state) and its output; on ranks,
   // the rank's part of it, its piece of the frames and the probes' values from their owners.
-  const dist::Communicator* ranks = run.ranks;
+  const mpi::Communicator* ranks = run.ranks;
   setup::Flow flow;
-  std::optional<dist::HaloExchange> halo;
+  std::optional<mpi::HaloExchange> halo;
   std::optional<FluidPieces> pieces;
-  dist::on_every_rank(ranks, [&] {
+  mpi::on_every_rank(ranks, [&] {
     flow = ranks ? setup::build_flow(section, *run.meshes.fluid, ranks->rank(), ranks->size())
                  : setup::build_flow(section, *run.meshes.fluid);
     if (!ranks) return;
     halo.emplace(*ranks, flow.part->local);
-    flow.model->set_distribution(dist::flow_distribution(*ranks, *halo, flow.part->local));
+    flow.model->set_distribution(mpi::flow_distribution(*ranks, *halo, flow.part->local));
     pieces.emplace(make_fluid_pieces(*flow.model, *flow.part, flow.new_index, *ranks, run.recorder.probes()));
   });
   fluid::FluidModel& model = *flow.model;
@@ -91,7 +91,7 @@ void run_fluid(const RunContext& run) {
   const Index whole_nodes = flow.part ? flow.part->whole_nodes : 0;
   stepping.save = [&](ArchiveWriter& out) {
     if (ranks)
-      dist::save_whole(model, *ranks, flow.part->local, whole_nodes, out);
+      mpi::save_whole(model, *ranks, flow.part->local, whole_nodes, out);
     else
       model.save(out);
     out.put(first_density_rate);
@@ -99,7 +99,7 @@ void run_fluid(const RunContext& run) {
   };
   stepping.restore = [&](ArchiveReader& in) {
     if (ranks)
-      dist::restore_whole(model, *ranks, flow.part->local, whole_nodes, in);
+      mpi::restore_whole(model, *ranks, flow.part->local, whole_nodes, in);
     else
       model.restore(in);
     first_density_rate = in.get<double>();

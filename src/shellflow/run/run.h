@@ -8,8 +8,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "shellflow/dist/communicator.h"
 #include "shellflow/io/case.h"
+#include "shellflow/mpi/communicator.h"
 #include "shellflow/run/run_control.h"
 
 namespace shellflow::run {
@@ -20,7 +20,7 @@ struct RunOptions {
   bool plot = true;                                 ///< draw the PNG plots at the end
   StopOptions stop;                                 ///< --stop-after, --stop-at-wall, --restart
   /// The MPI ranks of a distributed run (mpirun -np N with N > 1); null: one process.
-  const dist::Communicator* ranks = nullptr;
+  const mpi::Communicator* ranks = nullptr;
 };
 
 /// Runs case `c`. Returns 0, or kStoppedExitCode when the run stopped with a checkpoint.

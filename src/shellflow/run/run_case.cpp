@@ -84,7 +84,7 @@ std::vector<std::string> split(const std::string& text, char sep) {
 /// copy of the case file on its node, other --set options on its part of an MPMD line) or
 /// whose -o or --restart differs is refused with one line, the same on every rank.
 void check_same_run_on_every_rank(const io::Case& c, const RunOptions& options) {
-  const dist::Communicator& ranks = *options.ranks;
+  const mpi::Communicator& ranks = *options.ranks;
   std::string digests;
   for (const io::SectionDigest& d : c.digests) digests += fmt::format("{}={:016x};", d.name, d.digest);
   const auto path_of = [](const std::optional<std::filesystem::path>& p) { return p ? p->string() : std::string("-"); };
@@ -122,7 +122,7 @@ void check_same_run_on_every_rank(const io::Case& c, const RunOptions& options) 
 }  // namespace
 
 int run_case(const io::Case& c, const RunOptions& options) {
-  const dist::Communicator* ranks = options.ranks;
+  const mpi::Communicator* ranks = options.ranks;
   const bool root = !ranks || ranks->rank() == 0;
   if (ranks) {
     check_same_run_on_every_rank(c, options);
@@ -139,14 +139,14 @@ int run_case(const io::Case& c, const RunOptions& options) {
     meshes.emplace(checkpoint ? io::load_case_meshes(c, std::nullopt, folder.path)  // reads the cache
                               : io::load_case_meshes(c, folder.path));
   };
-  dist::on_every_rank(ranks, [&] {
+  mpi::on_every_rank(ranks, [&] {
     if (root) load();
   });
   if (ranks) {
     std::string path = folder.path.string();
     ranks->broadcast(path);
     folder.path = path;
-    dist::on_every_rank(ranks, [&] {
+    mpi::on_every_rank(ranks, [&] {
       if (root) return;
       if (options.stop.restart) checkpoint = load_restart(*options.stop.restart, c);
       meshes.emplace(io::load_case_meshes(c, std::nullopt, folder.path));

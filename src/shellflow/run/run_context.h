@@ -4,9 +4,9 @@
 // plots drawn when the run ends.
 #include <filesystem>
 
-#include "shellflow/dist/communicator.h"
 #include "shellflow/io/case.h"
 #include "shellflow/io/case_meshes.h"
+#include "shellflow/mpi/communicator.h"
 #include "shellflow/run/output_dir.h"
 #include "shellflow/run/recorder.h"
 #include "shellflow/run/run_control.h"
@@ -22,7 +22,7 @@ struct RunContext {
   PlotJobs& plots;
   /// The ranks of a distributed run (every rank runs the same code; rank 0 alone writes the
   /// output folder, core/output_file.h); null in one process.
-  const dist::Communicator* ranks = nullptr;
+  const mpi::Communicator* ranks = nullptr;
 };
 
 }  // namespace shellflow::run

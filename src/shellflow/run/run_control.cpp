@@ -72,7 +72,7 @@ void arm_stop_signals() {
 
 void quiet_stop_signals() { g_quiet = 1; }
 
-bool stop_signal_received(const dist::Communicator* ranks) {
+bool stop_signal_received(const mpi::Communicator* ranks) {
   const bool here = g_stop_signal != 0;
   return ranks ? ranks->any(here) : here;
 }
@@ -114,7 +114,7 @@ io::Checkpoint load_restart(const fs::path& path, const io::Case& c) {
 }
 
 RunControl::RunControl(const io::Case& c, fs::path outdir, StopOptions options, std::optional<io::Checkpoint> restart,
-                       std::vector<io::SectionDigest> digests, const dist::Communicator* ranks)
+                       std::vector<io::SectionDigest> digests, const mpi::Communicator* ranks)
     : case_(c),
       outdir_(std::move(outdir)),
       options_(std::move(options)),

@@ -19,11 +19,11 @@
 #include <vector>
 
 #include "shellflow/core/archive.h"
-#include "shellflow/dist/communicator.h"
 #include "shellflow/io/case.h"
 #include "shellflow/io/checkpoint.h"
 #include "shellflow/io/probe_writer.h"
 #include "shellflow/io/pvd_writer.h"
+#include "shellflow/mpi/communicator.h"
 
 namespace shellflow::run {
 
@@ -44,7 +44,7 @@ void arm_stop_signals();
 void quiet_stop_signals();
 /// Whether a stop signal came, on any of `ranks` (null: this process); every rank calls it at
 /// the same point.
-bool stop_signal_received(const dist::Communicator* ranks);
+bool stop_signal_received(const mpi::Communicator* ranks);
 
 /// The exit code of a run the physics stopped (a SolverError: Newton gave up, a negative
 /// density, an inverted element): a result of the case, where exit code 1 is an input or
@@ -67,7 +67,7 @@ class RunControl {
   /// step).
   RunControl(const io::Case& c, std::filesystem::path outdir, StopOptions options,
              std::optional<io::Checkpoint> restart, std::vector<io::SectionDigest> digests,
-             const dist::Communicator* ranks = nullptr);
+             const mpi::Communicator* ranks = nullptr);
   ~RunControl();
   RunControl(const RunControl&) = delete;
   RunControl& operator=(const RunControl&) = delete;
@@ -76,7 +76,7 @@ class RunControl {
   io::OutputMode output_mode() const { return restart_ ? io::OutputMode::resume : io::OutputMode::create; }
   bool restarting() const { return restart_.has_value(); }
   /// The ranks of a distributed run (null: one process).
-  const dist::Communicator* ranks() const { return ranks_; }
+  const mpi::Communicator* ranks() const { return ranks_; }
   /// The checkpoint this run continues (null for a new run).
   const io::Checkpoint* restart() const { return restart_ ? &*restart_ : nullptr; }
   /// The first step this invocation makes (1, or the checkpoint's step + 1).
@@ -122,7 +122,7 @@ class RunControl {
   const io::Case& case_;
   std::filesystem::path outdir_;
   StopOptions options_;
-  const dist::Communicator* ranks_ = nullptr;
+  const mpi::Communicator* ranks_ = nullptr;
   std::optional<io::Checkpoint> restart_;
   std::vector<io::SectionDigest> digests_;
   long every_ = 0;

@@ -78,11 +78,11 @@ long step_in_time(RunControl& control, Recorder& recorder, const TimeStepping& s
     log_restart_at_the_end(control, s.loop);
   } else {
     if (s.before_frame_0) s.before_frame_0();
-    dist::on_every_rank(control.ranks(), [&] { recorder.record(0, s.time(), Record::probes_and_fields); });
+    mpi::on_every_rank(control.ranks(), [&] { recorder.record(0, s.time(), Record::probes_and_fields); });
   }
   // On ranks a failed write (rank 0's) ends every rank at once.
   const auto record = [&](long step, Record what) {
-    dist::on_every_rank(control.ranks(), [&] { recorder.record(step, s.time(), what); });
+    mpi::on_every_rank(control.ranks(), [&] { recorder.record(step, s.time(), what); });
   };
   return run_time_loop(s.loop, s.advance, record, s.time, &control);
 }

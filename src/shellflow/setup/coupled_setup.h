@@ -38,7 +38,7 @@ struct CoupledSystem {
 
 /// A coupled run whose flow is distributed over ranks (docs/parallel.md): the flow runs on
 /// rank `rank`'s part of the fluid mesh (rank_share), everything else is whole on every rank.
-/// `distribute` hands the flow and the FlowModel their distributions (dist/; the run layer's),
+/// `distribute` hands the flow and the FlowModel their distributions (mpi/; the run layer's),
 /// before the driver first asks for loads.
 struct CoupledRanks {
   int rank = 0;

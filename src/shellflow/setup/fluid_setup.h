@@ -61,7 +61,7 @@ RankShare rank_share(const mesh::Mesh& whole, int rank, int ranks);
 /// METIS into `ranks` parts, and the model runs on the rank's local mesh with the whole mesh's
 /// colouring restricted to it (the same bits on any rank count); new_index still maps case
 /// nodes to the whole renumbered mesh, part->local maps those to the model's nodes. The caller
-/// hands the model its distribution (dist/flow_distribution.h). Every rank computes the same
+/// hands the model its distribution (mpi/flow_distribution.h). Every rank computes the same
 /// partition (METIS with a fixed seed, rank_share).
 struct Flow {
   std::unique_ptr<fluid::FluidModel> model;

@@ -1,4 +1,4 @@
-#include "shellflow/dist/communicator.h"
+#include "shellflow/mpi/communicator.h"
 
 #include <fmt/format.h>
 #include <mpi.h>
@@ -11,7 +11,7 @@
 
 #include "shellflow/core/error.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 namespace {
 
 void check(int code, const char* what) {
@@ -166,4 +166,4 @@ void gather_from_owners(const Communicator& comm, std::span<const int> owner, st
   }
 }
 
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi

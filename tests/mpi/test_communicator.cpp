@@ -1,4 +1,4 @@
-// Ranks of a distributed run (dist/, docs/parallel.md), run under mpirun with 1, 2 and 3 ranks
+// Ranks of a distributed run (mpi/, docs/parallel.md), run under mpirun with 1, 2 and 3 ranks
 // (CTest label mpi): the partition of a box mesh computed on every rank is the same
 // everywhere, every cell and node is owned once over the ranks, ghosts are complete; the halo
 // exchange sets every ghost to its owner's value; reductions; an error on one rank reaches
@@ -13,12 +13,12 @@
 #include <string>
 #include <vector>
 
-#include "shellflow/dist/communicator.h"
-#include "shellflow/dist/halo_exchange.h"
 #include "shellflow/mesh/partition.h"
+#include "shellflow/mpi/communicator.h"
+#include "shellflow/mpi/halo_exchange.h"
 #include "support/box_mesh.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 namespace {
 
 mesh::Mesh box() {
@@ -149,12 +149,12 @@ TEST(Errors, RanksLeavingTogetherAgreeAndARankLeftAloneFindsOut) {
 }
 
 }  // namespace
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi
 
 // Every rank runs every test; rank 0 prints; every rank exits with the same code.
 int main(int argc, char** argv) {
   ::testing::InitGoogleTest(&argc, argv);
-  auto& comm = shellflow::dist::Communicator::world();
+  auto& comm = shellflow::mpi::Communicator::world();
   if (comm.rank() != 0) {
     auto& listeners = ::testing::UnitTest::GetInstance()->listeners();
     delete listeners.Release(listeners.default_result_printer());

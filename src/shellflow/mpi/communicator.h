@@ -14,7 +14,7 @@
 
 #include "shellflow/core/error.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 
 class Communicator {
  public:
@@ -93,4 +93,4 @@ void on_every_rank(const Communicator* comm, F&& f) {
   if (!first.empty()) throw Error(first);
 }
 
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi

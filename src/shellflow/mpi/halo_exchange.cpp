@@ -1,11 +1,11 @@
-#include "shellflow/dist/halo_exchange.h"
+#include "shellflow/mpi/halo_exchange.h"
 
 #include <fmt/format.h>
 #include <mpi.h>
 
 #include "shellflow/core/error.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 
 HaloExchange::HaloExchange(const Communicator& comm, const mesh::LocalPart& part)
     : comm_(comm), neighbours_(part.neighbours) {
@@ -52,4 +52,4 @@ void HaloExchange::exchange(std::span<double* const> fields) {
   }
 }
 
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi

@@ -2,11 +2,11 @@
 // A flow model on a rank's part of the mesh (fluid::FluidModel::set_distribution) over the
 // world's ranks: the ghost exchange of the rank's local part and the ranks' reductions.
 #include "shellflow/core/archive.h"
-#include "shellflow/dist/communicator.h"
-#include "shellflow/dist/halo_exchange.h"
 #include "shellflow/fluid/fluid_model.h"
+#include "shellflow/mpi/communicator.h"
+#include "shellflow/mpi/halo_exchange.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 
 /// The distribution of a model on `part` (this rank's local part): exchange through `halo`,
 /// min, sum in rank order and first_error over `comm`, `part.num_owned` owned nodes. `comm` and
@@ -26,4 +26,4 @@ void save_whole(const fluid::FluidModel& model, const Communicator& comm, const 
 void restore_whole(fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes,
                    ArchiveReader& in);
 
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi

@@ -1,4 +1,4 @@
-#include "shellflow/dist/flow_distribution.h"
+#include "shellflow/mpi/flow_distribution.h"
 
 #include <fmt/format.h>
 
@@ -8,7 +8,7 @@
 
 #include "shellflow/core/error.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 
 fluid::FluidModel::Distribution flow_distribution(const Communicator& comm, HaloExchange& halo,
                                                   const mesh::LocalPart& part) {
@@ -125,4 +125,4 @@ void restore_whole(fluid::FluidModel& model, const Communicator& comm, const mes
   model.restore(s);
 }
 
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi

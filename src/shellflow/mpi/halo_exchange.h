@@ -6,10 +6,10 @@
 #include <span>
 #include <vector>
 
-#include "shellflow/dist/communicator.h"
 #include "shellflow/mesh/partition.h"
+#include "shellflow/mpi/communicator.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 
 class HaloExchange {
  public:
@@ -29,4 +29,4 @@ class HaloExchange {
   std::vector<std::vector<double>> send_buffers_, receive_buffers_;
 };
 
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi

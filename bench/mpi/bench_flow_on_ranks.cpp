@@ -3,9 +3,9 @@
 // on the ranks' parts of the box (FluidModel::set_distribution, docs/parallel.md). Every rank
 // builds and partitions the whole box, steps its part, and rank 0 prints the slowest rank's
 // milliseconds per step. Compare in one session:
-//   OMP_NUM_THREADS=1 mpiexec -n 1 build/release/bench/dist/bench_dist_flow 40
-//   OMP_NUM_THREADS=2 mpiexec -n 1 build/release/bench/dist/bench_dist_flow 40
-//   OMP_NUM_THREADS=1 mpiexec -n 2 build/release/bench/dist/bench_dist_flow 40
+//   OMP_NUM_THREADS=1 mpiexec -n 1 build/release/bench/mpi/bench_flow_on_ranks 40
+//   OMP_NUM_THREADS=2 mpiexec -n 1 build/release/bench/mpi/bench_flow_on_ranks 40
+//   OMP_NUM_THREADS=1 mpiexec -n 2 build/release/bench/mpi/bench_flow_on_ranks 40
 // (as root: OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1).
 // Arguments: n (default 40: 384 000 tets), steps (default 20).
 #include <chrono>
@@ -16,21 +16,21 @@
 
 #include "../fluid/box_mesh.h"
 #include "shellflow/core/parallel.h"
-#include "shellflow/dist/communicator.h"
-#include "shellflow/dist/flow_distribution.h"
-#include "shellflow/dist/halo_exchange.h"
 #include "shellflow/fluid/fluid_model.h"
 #include "shellflow/fluid/ordering.h"
 #include "shellflow/mesh/partition.h"
+#include "shellflow/mpi/communicator.h"
+#include "shellflow/mpi/flow_distribution.h"
+#include "shellflow/mpi/halo_exchange.h"
 
 using namespace shellflow;
 
 int main(int argc, char** argv) {
-  auto& comm = dist::Communicator::world();
+  auto& comm = mpi::Communicator::world();
   const int n = argc > 1 ? std::atoi(argv[1]) : 40;
   const int steps = argc > 2 ? std::atoi(argv[2]) : 20;
   if (n < 2 || steps < 1) {
-    if (comm.rank() == 0) std::fprintf(stderr, "usage: bench_dist_flow [n >= 2] [steps >= 1]\n");
+    if (comm.rank() == 0) std::fprintf(stderr, "usage: bench_flow_on_ranks [n >= 2] [steps >= 1]\n");
     return 2;
   }
   mesh::Mesh global = fluid::bench::box_mesh(n);
@@ -51,8 +51,8 @@ int main(int argc, char** argv) {
                            {"outflow", fluid::BoundaryKind::supersonic_outflow, {}, {}},
                            {"walls", fluid::BoundaryKind::slip_wall, {}, {}},
                            {"symmetry", fluid::BoundaryKind::symmetry, {}, {}}});
-  dist::HaloExchange halo(comm, part);
-  if (comm.size() > 1) model.set_distribution(dist::flow_distribution(comm, halo, part));
+  mpi::HaloExchange halo(comm, part);
+  if (comm.size() > 1) model.set_distribution(mpi::flow_distribution(comm, halo, part));
   model.set_state([&](const Vec3& x) {
     const double pi = std::numbers::pi;
     fluid::Primitive s = free_stream;

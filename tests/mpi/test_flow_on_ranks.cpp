@@ -13,14 +13,14 @@
 #include <string>
 #include <vector>
 
-#include "shellflow/dist/communicator.h"
-#include "shellflow/dist/flow_distribution.h"
-#include "shellflow/dist/halo_exchange.h"
 #include "shellflow/fluid/fluid_model.h"
 #include "shellflow/mesh/partition.h"
+#include "shellflow/mpi/communicator.h"
+#include "shellflow/mpi/flow_distribution.h"
+#include "shellflow/mpi/halo_exchange.h"
 #include "support/box_mesh.h"
 
-namespace shellflow::dist {
+namespace shellflow::mpi {
 namespace {
 
 using fluid::BoundaryCondition;
@@ -106,4 +106,4 @@ TEST(DistributedFlow, OwnedNodesOfEveryRankFollowTheOneModelRunFor100Steps) {
 }
 
 }  // namespace
-}  // namespace shellflow::dist
+}  // namespace shellflow::mpi
