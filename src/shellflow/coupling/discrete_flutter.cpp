@@ -3,7 +3,6 @@
 #include <fmt/format.h>
 
 #include <Eigen/Dense>
-#include <algorithm>
 #include <cmath>
 
 #include "shellflow/core/error.h"
@@ -50,9 +49,7 @@ std::vector<std::complex<double>> discrete_eigenvalues(const LinearFlutterSystem
   std::vector<std::complex<double>> roots;
   for (const std::complex<double>& z : es.eigenvalues())
     if (z.imag() >= 0.0 && z != 0.0) roots.push_back(std::log(z) / aero.dt);
-  std::sort(roots.begin(), roots.end(), [](const auto& a, const auto& b) {
-    return a.imag() != b.imag() ? a.imag() < b.imag() : a.real() < b.real();
-  });
+  sort_roots(roots);
   return roots;
 }
 

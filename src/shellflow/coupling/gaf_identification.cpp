@@ -23,8 +23,8 @@ Eigen::MatrixXd DiscreteStateSpace::simulate(const Eigen::MatrixXd& inputs) cons
   Eigen::VectorXd x = Eigen::VectorXd::Zero(states());
   for (Eigen::Index n = 0; n < inputs.rows(); ++n) {
     const Eigen::VectorXd u = inputs.row(n).transpose();
-    out.row(n) = (D * u + (states() > 0 ? Eigen::VectorXd(C * x) : Eigen::VectorXd::Zero(D.rows()))).transpose();
-    if (states() > 0) x = A * x + B * u;
+    out.row(n) = (C * x + D * u).transpose();  // C x is a zero vector without states
+    x = A * x + B * u;
   }
   return out;
 }

@@ -182,10 +182,14 @@ std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(const AeroSta
   } else {
     s.erase(std::find_if(s.begin(), s.end(), [](const auto& z) { return z.imag() < 0.0; }), s.end());
   }
-  std::sort(s.begin(), s.end(), [](const auto& a, const auto& b) {
+  sort_roots(s);
+  return s;
+}
+
+void sort_roots(std::vector<std::complex<double>>& roots) {
+  std::sort(roots.begin(), roots.end(), [](const auto& a, const auto& b) {
     return a.imag() != b.imag() ? a.imag() < b.imag() : a.real() < b.real();
   });
-  return s;
 }
 
 double LinearFlutterSystem::max_growth_rate(const AeroStateSpace& aero) const {

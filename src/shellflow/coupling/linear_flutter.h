@@ -89,6 +89,9 @@ class LinearFlutterSystem {
   Eigen::LLT<Eigen::MatrixXd> mass_factor_;
 };
 
+/// Orders roots by Im s, then Re s (the order of LinearFlutterSystem::eigenvalues).
+void sort_roots(std::vector<std::complex<double>>& roots);
+
 enum class FlutterParameter { lambda, mach };
 
 /// The panel and flow quantities a sweep needs.
