@@ -12,8 +12,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "../shell/structured_shell_mesh.h"
-#include "coupling_test_util.h"
+#include "flutter_strip.h"
 #include "shellflow/core/error.h"
 #include "shellflow/coupling/discrete_flutter.h"
 #include "shellflow/coupling/gaf_identification.h"
@@ -25,36 +24,7 @@ namespace shellflow::coupling {
 namespace {
 
 constexpr double pi = std::numbers::pi;
-constexpr double a = 0.5, width = 0.025, h = 1.35e-3, E = 77.28e9, nu = 0.33, rho_m = 2710.0;
-
-enum class Edges { clamped, pinned };
-
-/// A plane-strain strip: nx cubic elements along x (the flow), one across, symmetry planes
-/// y = 0 and y = width, the edges x = 0 and x = a clamped or pinned (soft simple support).
-shell::ShellModel strip(int nx, Edges edges) {
-  mesh::Mesh m =
-      shell::testing::structured_shell_mesh(a, width, nx, 1, [](double s, double t) { return Vec3(s, t, 0.0); });
-  shell::ShellSection section;
-  section.thickness = h;
-  section.material = {E, nu, rho_m};
-  shell::ShellModel model(std::move(m), section);
-  for (const char* g : {"left", "right"})
-    model.add_support(edges == Edges::clamped ? shell::Support::clamped(g) : shell::Support::simply_supported(g));
-  for (const char* g : {"bottom", "top"}) model.add_support(shell::Support::symmetry_plane(g, 1));
-  return model;
-}
-
-PistonTheory piston(const shell::ShellModel& model) {
-  PistonTheoryFlow flow;
-  flow.density = 0.339;
-  flow.mach = 2.3;
-  flow.speed = 2.3 * std::sqrt(1.4 * 28000.0 / 0.339);
-  flow.direction = Vec3::UnitX();
-  flow.wet_normal = Vec3::UnitZ();
-  return PistonTheory(model, flow);
-}
-
-FlutterSetting setting(bool damping) { return coupling_test::panel_flutter_setting(a, 2.3, damping); }
+using namespace test_strip;
 
 /// lambda_cr and the non-dimensional coalescence frequency omega_bar = omega sqrt(rho h a^4 / D)
 /// of the finite-difference beam with n intervals.

@@ -141,13 +141,18 @@ std::pair<std::complex<double>, Eigen::VectorXcd> LinearFlutterSystem::least_sta
     const auto z = es.eigenvalues()(k);
     if (z.imag() >= 0.0 && (best < 0 || z.real() > es.eigenvalues()(best).real())) best = k;
   }
-  Eigen::VectorXcd shape = basis_.cast<std::complex<double>>() * es.eigenvectors().col(best).head(n);
+  return {es.eigenvalues()(best), shape(es.eigenvectors().col(best).head(n))};
+}
+
+Eigen::VectorXcd LinearFlutterSystem::shape(const Eigen::VectorXcd& y) const {
+  if (!modal_) throw SolverError("linear flutter analysis: mode shapes need the modal basis (not --direct)");
+  Eigen::VectorXcd shape = basis_.cast<std::complex<double>>() * y;
   Eigen::Index largest = 0;
   double peak = -1.0;
   for (Eigen::Index i = 0; i < shape.size(); ++i)
     if (i % shell::dofs_per_node < 3 && std::abs(shape(i)) > peak) peak = std::abs(shape(largest = i));
   if (peak > 0.0) shape /= shape(largest);
-  return {es.eigenvalues()(best), shape};
+  return shape;
 }
 
 std::vector<std::complex<double>> LinearFlutterSystem::eigenvalues(const AeroStateSpace& aero) const {
@@ -248,7 +253,7 @@ FlutterSweep sweep_flutter(const LinearFlutterSystem& system, const ModalAerodyn
   const auto evaluate = [&](double value) {
     FlutterPoint p;
     p.value = value;
-    p.eigenvalues = system.eigenvalues(aero.at(setting.flow(parameter, value)));
+    p.eigenvalues = aero.roots(system, setting.flow(parameter, value));
     if (tracked_roots > 0 && p.eigenvalues.size() > std::size_t(tracked_roots))
       p.eigenvalues.resize(std::size_t(tracked_roots));
     for (const auto& s : p.eigenvalues) p.scale = std::max(p.scale, std::abs(s));

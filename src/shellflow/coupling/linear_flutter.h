@@ -62,6 +62,9 @@ class LinearFlutterSystem {
   /// largest nodal displacement component is real and 1. Throws SolverError on the full
   /// system.
   std::pair<std::complex<double>, Eigen::VectorXcd> least_stable_mode(const AeroStateSpace& aero) const;
+  /// The shell's dofs of modal coordinates y, Phi y, turned and scaled so that the largest
+  /// nodal displacement component is real and 1 (modal basis only).
+  Eigen::VectorXcd shape(const Eigen::VectorXcd& y) const;
   /// The in-vacuo modes of the basis, one column per mode (modal basis only; empty otherwise).
   const Eigen::MatrixXd& basis() const { return basis_; }
 

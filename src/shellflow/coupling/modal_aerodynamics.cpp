@@ -10,6 +10,16 @@
 
 namespace shellflow::coupling {
 
+std::vector<std::complex<double>> ModalAerodynamics::roots(const LinearFlutterSystem& system,
+                                                           const FlowCondition& flow) const {
+  return system.eigenvalues(at(flow));
+}
+
+std::pair<std::complex<double>, Eigen::VectorXcd> ModalAerodynamics::least_stable_mode(
+    const LinearFlutterSystem& system, const FlowCondition& flow) const {
+  return system.least_stable_mode(at(flow));
+}
+
 PistonAerodynamics::PistonAerodynamics(const LinearFlutterSystem& system, const PistonTheory& theory) {
   shell::SparseMatrix A1, D1;
   theory.matrices(A1, D1, 1.0, 1.0);

@@ -14,8 +14,11 @@
 // zero-order-hold conversion to this form would delay its forces by half a step, so it has a
 // discrete path of its own (discrete_flutter.h; docs/flutter.md, "Aerodynamic models").
 #include <Eigen/Core>
+#include <complex>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace shellflow::coupling {
 
@@ -51,6 +54,14 @@ class ModalAerodynamics {
   virtual AeroStateSpace at(const FlowCondition& flow) const = 0;
   /// The same model on the first k coordinates of a modal basis (the truncation check).
   virtual std::unique_ptr<ModalAerodynamics> truncated(int k) const = 0;
+  /// The roots of `system` with this model at a flow condition, as LinearFlutterSystem::
+  /// eigenvalues orders them; a discrete-time model solves its one-step map instead
+  /// (discrete_flutter.h).
+  virtual std::vector<std::complex<double>> roots(const LinearFlutterSystem& system, const FlowCondition& flow) const;
+  /// The least stable root and its shape in the shell's dofs (LinearFlutterSystem::
+  /// least_stable_mode).
+  virtual std::pair<std::complex<double>, Eigen::VectorXcd> least_stable_mode(const LinearFlutterSystem& system,
+                                                                              const FlowCondition& flow) const;
   /// A name for logs and summaries ("piston theory").
   virtual std::string name() const = 0;
 };
