@@ -15,6 +15,7 @@
 #include <numbers>
 
 #include "commands.h"
+#include "flutter_identified.h"
 #include "shellflow/core/error.h"
 #include "shellflow/core/json.h"
 #include "shellflow/core/output_file.h"
@@ -95,9 +96,8 @@ void warn_of_dense_solves(const coupling::LinearFlutterSystem& linear, const Flu
 
 /// The sweep over the parameter's range (widened up to three times when no boundary shows and
 /// no --range was given), the truncation check on half the modes, the case's least stable root.
-Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::PistonAerodynamics& aero,
-             const coupling::PistonTheory& theory, const coupling::FlutterSetting& setting,
-             const FlutterOptions& options, int modes) {
+Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::ModalAerodynamics& aero,
+             const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes) {
   Result r;
   // The full system's highest roots are the mesh's thickness-stretch modes (MHz), which piston
   // theory destabilises: with --direct only the --modes roots of lowest frequency count.
@@ -131,8 +131,9 @@ Result sweep(const coupling::LinearFlutterSystem& linear, const coupling::Piston
                                            options.points, 1e-9, 0, on_value);
     if (s.critical) r.half_modes_critical = s.critical->value;
   }
-  auto case_roots =
-      linear.eigenvalues(aero.at_coefficients(theory.stiffness_coefficient(), theory.damping_coefficient()));
+  coupling::FlowCondition case_flow = setting.flow(coupling::FlutterParameter::mach, setting.mach);
+  case_flow.damping = true;  // the case's own flow has its damping (also with --no-aero-damping)
+  auto case_roots = aero.roots(linear, case_flow);
   if (tracked > 0 && case_roots.size() > std::size_t(tracked)) case_roots.resize(std::size_t(tracked));
   r.least_stable = *std::max_element(case_roots.begin(), case_roots.end(),
                                      [](const auto& a, const auto& b) { return a.real() < b.real(); });
@@ -155,7 +156,7 @@ void write_locus(const Result& r, const fs::path& outdir) {
 /// flutter.json (returned, for --json).
 std::string write_summary(const io::Case& c, const Result& r, const coupling::LinearFlutterSystem& linear,
                           const coupling::FlutterSetting& setting, const FlutterOptions& options, int modes,
-                          const fs::path& outdir) {
+                          const std::string& identification, const fs::path& outdir) {
   const auto& cr = r.sweep.critical;
   const auto& mat = c.shell->material;
   std::string freqs;
@@ -165,7 +166,8 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
       "\"aerodynamic_damping\": {}, \"panel_length\": {}, \"bending_stiffness\": {}, \"mu_over_mach\": {}, "
       "\"lambda_case\": {}, \"mach_case\": {}, \"case_growth_rate\": {}, \"case_frequency_hz\": {}, "
       "\"lambda_cr\": {}, \"mach_cr\": {}, \"frequency_hz\": {}, \"critical_value\": {}, "
-      "\"critical_value_half_modes\": {}, \"in_vacuo_frequencies_hz\": [{}]}}",
+      "\"critical_value_half_modes\": {}, \"in_vacuo_frequencies_hz\": [{}], \"aerodynamics\": {}, "
+      "\"identification\": {}}}",
       json_string(c.name), coupling::to_string(options.parameter), json_number(r.lo), json_number(r.hi), options.points,
       modes, setting.aerodynamic_damping ? "true" : "false", json_number(setting.length),
       json_number(setting.bending_stiffness),
@@ -173,8 +175,9 @@ std::string write_summary(const io::Case& c, const Result& r, const coupling::Li
       json_number(setting.lambda_of_mach(setting.mach)), json_number(setting.mach), json_number(r.least_stable.real()),
       json_number(std::abs(r.least_stable.imag()) / (2.0 * std::numbers::pi)), cr ? json_number(cr->lambda) : "null",
       cr ? json_number(cr->mach) : "null", cr ? json_number(cr->frequency_hz) : "null",
-      cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null",
-      freqs);
+      cr ? json_number(cr->value) : "null", r.half_modes_critical ? json_number(*r.half_modes_critical) : "null", freqs,
+      identification.empty() ? "\"piston_theory\"" : "\"identified\"",
+      identification.empty() ? "null" : identification);
   write_file_atomically(outdir / "flutter.json", json + '\n');
   return json;
 }
@@ -198,7 +201,7 @@ void write_mode_shapes(const shell::ShellModel& model, const coupling::LinearFlu
   }
   const coupling::FlowCondition flow = r.sweep.critical ? setting.flow(options.parameter, r.sweep.critical->value)
                                                         : setting.flow(coupling::FlutterParameter::mach, setting.mach);
-  const Eigen::VectorXcd shape = linear.least_stable_mode(aero.at(flow)).second;
+  const Eigen::VectorXcd shape = aero.least_stable_mode(linear, flow).second;
   std::vector<double> re, im;
   for (Index n = 0; n < nodes; ++n)
     for (int i = 0; i < 3; ++i) {
@@ -235,12 +238,31 @@ void log_outcome(const Result& r, const coupling::FlutterSetting& setting, const
       options.direct ? "" : ", flutter_modes.vtu");
 }
 
-}  // namespace
+/// The aerodynamic model of the analysis: piston theory on the case's stream, or the model
+/// identified from the case's own flow (flutter_identified.h; empty when its run stopped).
+struct Aerodynamics {
+  std::unique_ptr<coupling::ModalAerodynamics> model;
+  std::string identification;  ///< flutter.json's `identification` (identified only)
+};
 
-int flutter_command(const CommonOptions& common, const FlutterOptions& options) {
-  // 1. The case reduced to its shell, the shell model, piston theory and the setting.
-  const io::Case full = read_case(common);
-  const auto where = common.case_file.string();
+Aerodynamics aerodynamics(const CommonOptions& common, const FlutterOptions& options, const io::Case& c,
+                          const shell::ShellModel& model, const coupling::LinearFlutterSystem& linear,
+                          const coupling::FlutterSetting& setting, const fs::path& outdir) {
+  Aerodynamics a;
+  if (options.aerodynamics == FlutterOptions::Aerodynamics::piston) {
+    a.model =
+        std::make_unique<coupling::PistonAerodynamics>(linear, piston_theory(c, model, common.case_file.string()));
+    return a;
+  }
+  IdentifiedModel id = identify(common, options, int(linear.size()), setting, outdir);
+  if (id.stopped) return a;
+  a.model = std::move(id.aero);
+  a.identification = std::move(id.json);
+  return a;
+}
+
+/// The options that do not go together, refused before anything runs.
+void check_options(const io::Case& full, const FlutterOptions& options, const std::string& where) {
   if (!full.shell)
     throw InputError(fmt::format("{}: the linear flutter analysis needs a 'shell' section (the panel)", where));
   if (!full.fluid)
@@ -248,38 +270,61 @@ int flutter_command(const CommonOptions& common, const FlutterOptions& options) 
         fmt::format("{}: the linear flutter analysis needs a 'fluid' section with the free stream "
                     "(density, pressure, mach, direction) for piston theory",
                     where));
+  if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
+    throw Error(
+        "--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
+        "pressure has the damping of its speed)");
+  if (options.aerodynamics != FlutterOptions::Aerodynamics::identified) return;
+  if (options.direct)
+    throw Error(
+        "--aerodynamics identified works on the modal basis (its modes are the identification's): drop --direct");
+  if (options.no_aerodynamic_damping)
+    throw Error(
+        "--no-aero-damping: an identified model's forces cannot be split into a stiffness and a damping part; it "
+        "applies to piston theory only");
+}
+
+}  // namespace
+
+int flutter_command(const CommonOptions& common, const FlutterOptions& options) {
+  // 1. The case reduced to its shell, the shell model and the setting.
+  const io::Case full = read_case(common);
+  const auto where = common.case_file.string();
+  check_options(full, options, where);
   const io::Case c = shell_only(full);
   const auto folder = prepare_output_dir(c, common);  // locked while this command runs
   const std::filesystem::path& outdir = folder.path;
   const io::CaseMeshes meshes = io::load_case_meshes(c, std::nullopt);
   const shell::ShellModel model = setup::build_shell_model(*c.shell, *meshes.shell);
-  const coupling::PistonTheory theory = piston_theory(c, model, where);
   coupling::FlutterSetting setting = setup::flutter_setting(c, model);
   setting.aerodynamic_damping = !options.no_aerodynamic_damping;
-  if (options.no_aerodynamic_damping && options.parameter == coupling::FlutterParameter::mach)
-    throw Error(
-        "--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
-        "pressure has the damping of its speed)");
-  // 2. The linear system (in-vacuo modes or the full system) and the sweep.
-  const int modes = options.direct ? 0 : options.modes;
-  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({})", c.name,
-               setting.length, setting.bending_stiffness,
+  // 2. The linear system (in-vacuo modes or the full system), the aerodynamics, the sweep.
+  // Identified: the identification's modes (the case's coupling.identification.modes, else 6).
+  const bool identified = options.aerodynamics == FlutterOptions::Aerodynamics::identified;
+  const int modes = options.direct                                   ? 0
+                    : !identified || options.modes_given             ? options.modes
+                    : full.coupling && full.coupling->identification ? full.coupling->identification->modes
+                                                                     : 6;
+  spdlog::info("linear flutter analysis of '{}': panel length {:.6g} m, D = {:.6g} N m, mu/M = {:.4g}, {} ({}, {})",
+               c.name, setting.length, setting.bending_stiffness,
                setting.mass_ratio_over_mach(c.shell->material.density, c.shell->thickness),
                modes > 0 ? fmt::format("{} in-vacuo modes", modes) : "full system",
+               identified ? "aerodynamics identified from the case's flow" : "piston theory",
                options.no_aerodynamic_damping ? "no aerodynamic damping, mu/M -> 0" : "with aerodynamic damping");
   const coupling::LinearFlutterSystem linear(model, modes);
-  const coupling::PistonAerodynamics aero(linear, theory);
   if (!options.direct)
     spdlog::info("in-vacuo frequencies: {:.5g} ... {:.5g} Hz", linear.in_vacuo_frequencies().front(),
                  linear.in_vacuo_frequencies().back());
   else
     spdlog::info("full system: {} dofs with mass (thickness parameter condensed)", linear.size());
   if (options.direct) warn_of_dense_solves(linear, options);
-  const Result r = sweep(linear, aero, theory, setting, options, modes);
+  const Aerodynamics aero = aerodynamics(common, options, full, model, linear, setting, outdir);
+  if (!aero.model) return run::kStoppedExitCode;  // the identification run stopped with a checkpoint
+  const Result r = sweep(linear, *aero.model, setting, options, modes);
   // 3. The outputs and the plot.
   write_locus(r, outdir);
-  const std::string json = write_summary(c, r, linear, setting, options, modes, outdir);
-  if (!options.direct) write_mode_shapes(model, linear, aero, r, setting, options, outdir);
+  const std::string json = write_summary(c, r, linear, setting, options, modes, aero.identification, outdir);
+  if (!options.direct) write_mode_shapes(model, linear, *aero.model, r, setting, options, outdir);
   log_outcome(r, setting, options, modes, outdir);
   if (options.json) std::printf("%s\n", json.c_str());
   if (common.plot) {
@@ -340,7 +385,26 @@ Command add_flutter_command(CLI::App& cli, CommonOptions& common) {
                 "Drop the aerodynamic damping (mu/M -> 0: the classical coalescence boundary)");
   sub->add_flag("--json", options->json,
                 "Print one JSON object on stdout (lambda_cr, mach_cr, frequency_hz, ...) and nothing else");
-  return {sub, [&common, options] { return flutter_command(common, *options); }};
+  sub->add_option("--aerodynamics", options->aerodynamics,
+                  "piston: first-order piston theory on the case's stream; identified: the generalised "
+                  "aerodynamic forces of the case's own flow (Euler, or piston theory as a check), identified by "
+                  "a forced-motion run of its coupling.identification modes (default 6) into OUTDIR/identification "
+                  "(reused when the case's sections are unchanged; continued from its checkpoint when stopped), "
+                  "fitted by an FIR on [q; q'], solved with Newmark and the case's coupling scheme at the shell "
+                  "step; see docs/flutter.md")
+      ->transform(CLI::CheckedTransformer(std::map<std::string, FlutterOptions::Aerodynamics>{
+          {"piston", FlutterOptions::Aerodynamics::piston}, {"identified", FlutterOptions::Aerodynamics::identified}}));
+  sub->add_option("--taps", options->taps,
+                  "FIR taps of the identified model (default: twice the flow's memory a / (c (M - 1)) in shell "
+                  "steps, plus one; 1 for piston theory)")
+      ->check(CLI::Range(1, 100000));
+  sub->add_option("--regularisation", options->regularisation,
+                  "Tikhonov weight of the identified model's fit, relative to the largest input energy (default 0)")
+      ->check(CLI::Range(0.0, 1.0));
+  return {sub, [&common, options, sub] {
+            options->modes_given = sub->count("--modes") > 0;
+            return flutter_command(common, *options);
+          }};
 }
 
 }  // namespace shellflow::app

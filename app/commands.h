@@ -78,6 +78,12 @@ struct FlutterOptions {
   bool direct = false;                  ///< the full system instead of the modal basis
   bool no_aerodynamic_damping = false;  ///< mu/M -> 0
   bool json = false;                    ///< print the summary on stdout
+  /// The aerodynamic model: piston theory, or identified from the case's own flow by a
+  /// forced-motion run (flutter_identified.h).
+  enum class Aerodynamics { piston, identified } aerodynamics = Aerodynamics::piston;
+  bool modes_given = false;     ///< --modes on the command line (identified: else the case's)
+  int taps = 0;                 ///< FIR taps of the identified model; 0: auto
+  double regularisation = 0.0;  ///< Tikhonov weight of the fit (relative)
 };
 int flutter_command(const CommonOptions& common, const FlutterOptions& options);
 

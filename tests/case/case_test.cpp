@@ -976,6 +976,32 @@ TEST(ReadCaseCoupling, IterationsAndAccelerationErrors) {
                "iteration: remove 'iterations' (or use scheme: staggered)"));
 }
 
+TEST(ReadCaseCoupling, Identification) {
+  const Case c =
+      read_case_string(coupled_text("  identification: { modes: 4, pulse_width: 1e-3, gap: 4e-3, amplitude: 2e-6 }\n"),
+                       data("inline.yaml"));
+  ASSERT_TRUE(c.coupling->identification);
+  EXPECT_EQ(c.coupling->identification->modes, 4);
+  EXPECT_EQ(c.coupling->identification->pulse_width, 1e-3);
+  EXPECT_EQ(c.coupling->identification->gap, 4e-3);
+  EXPECT_EQ(c.coupling->identification->amplitude, 2e-6);
+  const Case defaults = read_case_string(coupled_text("  identification: {}\n"), data("inline.yaml"));
+  EXPECT_EQ(defaults.coupling->identification->modes, 6);
+  EXPECT_EQ(defaults.coupling->identification->pulse_width, 0.0);  // auto
+  EXPECT_FALSE(read_case_string(coupled_text(""), data("inline.yaml")).coupling->identification);
+  EXPECT_EQ(text_error(coupled_text("  identification: { modes: 0 }\n")),
+            at("inline.yaml", 13, "coupling.identification.modes: must be in [1, 40], got 0"));
+  EXPECT_EQ(text_error(coupled_text("  identification: { amplitude: 0.01 }\n")),
+            at("inline.yaml", 13, "coupling.identification.amplitude: must be in (0, 0.001) m, got 0.01"));
+  EXPECT_EQ(text_error(coupled_text("  identification: { width: 1e-3 }\n")),
+            at("inline.yaml", 13,
+               "coupling.identification.width: unknown key; expected one of: modes, pulse_width, gap, amplitude"));
+  EXPECT_EQ(text_error(coupled_text("  iterations: 5\n  identification: {}\n")),
+            at("inline.yaml", 14,
+               "coupling.identification: an identification run prescribes the wall's motion: it has no coupling "
+               "iterations; remove coupling.iterations"));
+}
+
 }  // namespace
 }  // namespace shellflow::io
 

@@ -14,16 +14,17 @@ namespace {
 constexpr double pi = std::numbers::pi;
 }
 
-double ModalPulses::q(int j, double t) const {
-  const double s = (t - start(j)) / width;
-  if (s <= 0.0 || s >= 1.0) return 0.0;
-  return 0.5 * peak[std::size_t(j)] * (1.0 - std::cos(2.0 * pi * s));
+double ModalPulses::shape(int p, double t) const {
+  const double s = (t - start(p)) / width;
+  return s <= 0.0 || s >= 1.0 ? 0.0 : 0.5 * (1.0 - std::cos(2.0 * pi * s));
 }
+
+double ModalPulses::q(int j, double t) const { return peak[std::size_t(j)] * shape(j, t); }
 
 double ModalPulses::dq(int j, double t) const {
   const double s = (t - start(j)) / width;
-  if (s <= 0.0 || s >= 1.0) return 0.0;
-  return peak[std::size_t(j)] * pi / width * std::sin(2.0 * pi * s);
+  const double rate = s <= 0.0 || s >= 1.0 ? 0.0 : std::sin(2.0 * pi * s);
+  return peak[std::size_t(j)] * pi / width * (rate + shape(int(peak.size()) + j, t));
 }
 
 Eigen::MatrixXd ForcedMotionRecord::input_matrix() const {

@@ -13,7 +13,11 @@
 //
 // The motion: one raised-cosine pulse per mode, q_j(t) = A_j (1 - cos(2 pi (t - t_j) / w)) / 2
 // on [t_j, t_j + w], t_j = j (w + gap), then `gap` of rest; A_j gives mode j a peak mid-surface
-// deflection `amplitude`.
+// deflection `amplitude`. Then K velocity pulses, q_j = 0 and q'_j = (pi A_j / w) (1 - cos ...) / 2
+// at the step ends: the wall moves inside each step's Hermite window only. A smooth motion
+// has q' = dq/dt, which leaves the split of the response between the q and q' taps
+// undetermined (a 24-tap fit of the strip determines 240 of its 288 taps per force); the
+// velocity pulses determine it.
 #include <Eigen/Core>
 #include <span>
 #include <vector>
@@ -29,10 +33,14 @@ struct ModalPulses {
   double width = 0.0;        ///< w [s]
   double gap = 0.0;          ///< rest between pulses and after the last [s]
   std::vector<double> peak;  ///< A_j per mode
-  double start(int j) const { return j * (width + gap); }
-  double end() const { return double(peak.size()) * (width + gap); }
+  /// Pulse p: of displacement for p < K, of velocity alone for K <= p < 2 K.
+  double start(int p) const { return p * (width + gap); }
+  double end() const { return 2.0 * double(peak.size()) * (width + gap); }
   double q(int j, double t) const;
   double dq(int j, double t) const;
+
+ private:
+  double shape(int p, double t) const;  ///< (1 - cos(2 pi s)) / 2 on the pulse, else 0
 };
 
 /// The record of a forced-motion run, one row per shell step from t = 0.

@@ -102,6 +102,17 @@ struct CouplingSection {
   std::string fluid_group;         ///< the fluid mesh's wet boundary (euler, mesh motion)
   Vec3 wet_normal = Vec3::Zero();  ///< piston theory: from the shell into the flow (unit)
   ResponseSection response;
+  /// `coupling.identification`: the run is a forced-motion identification of the aerodynamic
+  /// forces (docs/flutter.md, "Identified aerodynamics"): the wall follows pulses of the
+  /// shell's first `modes` in-vacuo modes, no shell solve; gaf_record.csv and gaf.json.
+  struct Identification {
+    int modes = 6;
+    double pulse_width = 0.0;  ///< [s]; 0: auto (one period of the highest mode's frequency)
+    double gap = 0.0;          ///< [s] rest after each pulse; 0: auto (3 a / (c_inf (M - 1)))
+    double amplitude = 1e-6;   ///< [m] peak mid-surface deflection of a pulse
+    SourceLocation where;
+  };
+  std::optional<Identification> identification;
   SourceLocation where;
 };
 

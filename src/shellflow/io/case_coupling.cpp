@@ -62,6 +62,19 @@ CouplingSection::Acceleration read_acceleration(const YamlNode& parent) {
   return a;
 }
 
+/// `coupling.identification`: `{modes: 6, pulse_width: 1e-3, gap: 4e-3, amplitude: 1e-6}`.
+CouplingSection::Identification read_identification(const YamlNode& node) {
+  node.expect_map();
+  CouplingSection::Identification id;
+  id.where = node.location();
+  id.modes = node.optional<int>("modes", id.modes, Range::in_range(1, 40));
+  id.pulse_width = node.optional<double>("pulse_width", 0.0, Range::positive(), "s");
+  id.gap = node.optional<double>("gap", 0.0, Range::positive(), "s");
+  id.amplitude = node.optional<double>("amplitude", id.amplitude, Range::open(0.0, 1e-3), "m");
+  node.finish();
+  return id;
+}
+
 }  // namespace
 
 CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes, std::vector<GroupReference>& refs) {
@@ -105,6 +118,7 @@ CouplingSection read_coupling(const YamlNode& node, const MeshesSection& meshes,
     c.response = read_response(*r);
   else
     c.response.where = node.location();
+  if (auto id = node.optional_child("identification")) c.identification = read_identification(*id);
   node.finish();
   return c;
 }
@@ -119,6 +133,10 @@ void check_coupled_case(const Case& c) {
     throw_at(c.shell->analysis->where, "a coupled run uses the Newmark scheme; remove 'scheme: midpoint'");
   const bool piston = c.fluid && c.fluid->model == FluidModelType::piston_theory;
   const bool euler = c.fluid && c.fluid->model == FluidModelType::euler;
+  if (k.identification && k.iterations > 1)
+    throw_at(k.identification->where,
+             "an identification run prescribes the wall's motion: it has no coupling iterations; remove "
+             "coupling.iterations");
   if (k.scheme == CouplingSection::Scheme::monolithic && !piston)
     throw_at(k.where,
              "scheme: monolithic puts the aerodynamic operator inside the shell's Newton "

@@ -107,18 +107,14 @@ TimeStepping coupled_stepping(const RunContext& run, setup::CoupledSystem& s, Re
 
 }  // namespace
 
-void run_coupled(const RunContext& run) {
-  const auto t_setup = std::chrono::steady_clock::now();
-  // 1. The response probe (an unknown one fails the run at once), the coupled system.
-  ResponseOutput response(run.c, run.outdir);
+CoupledBuild::CoupledBuild(const RunContext& run) {
   // On ranks the flow runs on the rank's part; the shell, the space mesh and the maps are
   // whole on every rank (docs/parallel.md).
   const mpi::Communicator* ranks = run.ranks;
-  std::optional<mpi::HaloExchange> halo;
   setup::CoupledRanks on_ranks;
   if (ranks) {
     on_ranks = {ranks->rank(), ranks->size(),
-                [&](const setup::FlowPart& part, fluid::FluidModel& flow, coupling::FlowModel& model) {
+                [this, ranks](const setup::FlowPart& part, fluid::FluidModel& flow, coupling::FlowModel& model) {
                   halo.emplace(*ranks, part.local);
                   flow.set_distribution(mpi::flow_distribution(*ranks, *halo, part.local));
                   model.set_distribution({part.local.nodes, part.node_owner, ranks->rank(),
@@ -133,12 +129,21 @@ void run_coupled(const RunContext& run) {
                                           }});
                 }};
   }
-  setup::CoupledSystem s;
-  std::optional<FluidPieces> pieces;
   mpi::on_every_rank(ranks, [&] {
-    s = setup::build_coupled_system(run.c, run.meshes, ranks ? &on_ranks : nullptr);
-    if (s.part) pieces.emplace(make_fluid_pieces(*s.flow->flow(), *s.part, s.new_index, *ranks, run.recorder.probes()));
+    system = setup::build_coupled_system(run.c, run.meshes, ranks ? &on_ranks : nullptr);
+    if (system.part)
+      pieces.emplace(
+          make_fluid_pieces(*system.flow->flow(), *system.part, system.new_index, *ranks, run.recorder.probes()));
   });
+}
+
+void run_coupled(const RunContext& run) {
+  const auto t_setup = std::chrono::steady_clock::now();
+  // 1. The response probe (an unknown one fails the run at once), the coupled system.
+  ResponseOutput response(run.c, run.outdir);
+  CoupledBuild built(run);
+  setup::CoupledSystem& s = built.system;
+  std::optional<FluidPieces>& pieces = built.pieces;
   log_system(run.c, s);
   // 2. The outputs: the moving meshes, the quality and response histories, coupling.csv.
   CoupledOutputs outputs(run, s, pieces ? &*pieces : nullptr);

@@ -39,7 +39,10 @@ OutputFolder output_folder(const io::Case& c, const RunOptions& options, std::op
 void run_kind(const RunContext& run) {
   const io::Case& c = run.c;
   if (c.coupling) {
-    run_coupled(run);  // shell and flow (or piston theory, or only the fluid mesh) together
+    if (c.coupling->identification)
+      run_identification(run);  // the flow driven by the shell's modes, no shell solve
+    else
+      run_coupled(run);  // shell and flow (or piston theory, or only the fluid mesh) together
   } else if (c.motion) {
     run_mesh_motion(run);  // prescribed boundary motion, no flow: the mesh-motion tests
   } else if (c.shell && c.shell->analysis) {

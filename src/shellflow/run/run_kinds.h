@@ -4,7 +4,13 @@
 // in time, hands itself to the one loop (time_loop.h: step_in_time). A SolverError (Newton
 // fails for good, a negative pressure, an inverted element) stops a run after its last valid
 // state was written.
+#include <optional>
+#include <string>
+
+#include "shellflow/mpi/halo_exchange.h"
+#include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/run_context.h"
+#include "shellflow/setup/coupled_setup.h"
 
 namespace shellflow::run {
 
@@ -25,5 +31,24 @@ void run_mesh_motion(const RunContext& run);
 /// Shell and flow (or piston theory, or only the fluid mesh) together (coupled_run.cpp):
 /// coupling.csv, mesh_quality.csv, response.json.
 void run_coupled(const RunContext& run);
+
+/// A coupled case with coupling.identification (identification_run.cpp): the flow driven by
+/// pulses of the shell's in-vacuo modes, no shell solve (coupling/forced_motion.h):
+/// gaf_record.csv and gaf.json.
+void run_identification(const RunContext& run);
+/// The case's section digests as one string (gaf.json's `case_sections`: an identification
+/// is reused for the same sections only).
+std::string case_sections_digest(const io::Case& c);
+
+/// The coupled system of a run's case; on ranks the flow on this rank's part with its halo
+/// and its pieces of the fluid frames (coupled_run.cpp).
+struct CoupledBuild {
+  explicit CoupledBuild(const RunContext& run);
+  CoupledBuild(const CoupledBuild&) = delete;
+  CoupledBuild& operator=(const CoupledBuild&) = delete;
+  std::optional<mpi::HaloExchange> halo;  ///< before the system: the flow's distribution refers to it
+  setup::CoupledSystem system;
+  std::optional<FluidPieces> pieces;
+};
 
 }  // namespace shellflow::run
