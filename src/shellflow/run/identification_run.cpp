@@ -36,7 +36,7 @@ void write_record(const coupling::ForcedMotionRecord& r, const std::filesystem::
 void write_summary(const RunContext& run, const coupling::ForcedModalMotion& forced,
                    const coupling::LinearFlutterSystem& modes, const coupling::FlowCondition& flow,
                    const std::string& aerodynamics) {
-  std::string freqs, peaks, digests;
+  std::string freqs, peaks;
   for (const double f : modes.in_vacuo_frequencies()) freqs += (freqs.empty() ? "" : ", ") + json_number(f);
   for (const double p : forced.pulses().peak) peaks += (peaks.empty() ? "" : ", ") + json_number(p);
   write_file_atomically(
