@@ -3,9 +3,12 @@
 #include <CLI/CLI.hpp>
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 #include <string>
 
 #include "commands.h"
+#include "shellflow/io/checkpoint.h"
 
 namespace shellflow::app {
 
@@ -36,6 +39,22 @@ const CLI::Validator& finite_number() {
       },
       "FINITE");
   return finite;
+}
+
+std::string read_text_file(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+bool has_checkpoint(const std::filesystem::path& dir) {
+  std::error_code ec;
+  for (std::filesystem::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (!name.ends_with(".tmp") && io::is_checkpoint_name(name)) return true;
+  }
+  return false;
 }
 
 }  // namespace shellflow::app

@@ -56,6 +56,10 @@ using run::StopOptions;
 
 /// The case file of the command line, with its --set overrides applied.
 io::Case read_case(const CommonOptions& options);
+/// A file's whole text (empty when it cannot be read).
+std::string read_text_file(const std::filesystem::path& file);
+/// Whether a run's folder holds a checkpoint to continue from (not a half-written `.tmp`).
+bool has_checkpoint(const std::filesystem::path& dir);
 /// The output directory of a command (-o, else the case's output.directory), created.
 inline run::OutputFolder prepare_output_dir(const io::Case& c, const CommonOptions& options) {
   return run::prepare_output_dir(c, options.output_dir);

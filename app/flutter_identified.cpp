@@ -17,13 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& file) {
-  std::ifstream in(file);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 /// gaf_record.csv as [q; q'] (samples x 2K) and f (samples x K), with its step.
 struct Record {
   Eigen::MatrixXd inputs, forces;
@@ -104,7 +97,7 @@ IdentifiedModel identify(const CommonOptions& common, const FlutterOptions& opti
   const fs::path folder = *id.output_dir;
   const std::string sections = "\"case_sections\": " + json_string(run::case_sections_digest(c));
   m.reused = fs::exists(folder / "gaf_record.csv") && fs::exists(folder / "gaf.json") &&
-             read_text(folder / "gaf.json").find(sections) != std::string::npos;
+             read_text_file(folder / "gaf.json").find(sections) != std::string::npos;
   if (m.reused) {
     spdlog::info("identified aerodynamics: reusing the identification in {} (same case sections)", folder.string());
   } else {
@@ -115,10 +108,7 @@ IdentifiedModel identify(const CommonOptions& common, const FlutterOptions& opti
     ro.ranks = common.ranks;
     // A run stopped before its record (no gaf.json) continues from its checkpoint; a finished
     // one of other case sections is replaced.
-    bool checkpoint = false;
-    if (fs::is_directory(folder) && !fs::exists(folder / "gaf.json"))
-      for (const auto& e : fs::directory_iterator(folder)) checkpoint = checkpoint || e.path().extension() == ".ckpt";
-    if (checkpoint) {
+    if (!fs::exists(folder / "gaf.json") && has_checkpoint(folder)) {
       ro.stop.restart = folder;
       spdlog::info("identified aerodynamics: continuing the identification run from its checkpoint in {}",
                    folder.string());

@@ -35,23 +35,6 @@ namespace {
 volatile std::sig_atomic_t g_study_signal = 0;
 extern "C" void on_study_signal(int sig) { g_study_signal = sig; }
 
-/// Whether a point's folder holds a checkpoint to continue from.
-bool has_checkpoint(const fs::path& dir) {
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string name = it->path().filename().string();
-    if (!name.ends_with(".tmp") && io::is_checkpoint_name(name)) return true;
-  }
-  return false;
-}
-
-std::string slurp(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// The number after `"key":` in `json` at or after `from` (our own files: flat, no escapes
 /// in the keys); NaN when absent or null.
 double read_json_number(const std::string& json, std::string_view key, std::size_t from = 0) {
@@ -76,7 +59,7 @@ bool json_true(const std::string& json, std::string_view key) {
 /// Reads a finished point's folder: point.json (status) and response.json (rates).
 std::optional<Point> read_point(const fs::path& dir, double value) {
   if (!fs::exists(dir / "point.json")) return std::nullopt;
-  const std::string status = slurp(dir / "point.json");
+  const std::string status = read_text_file(dir / "point.json");
   Point p;
   p.value = value;
   p.dir = dir;
@@ -89,7 +72,7 @@ std::optional<Point> read_point(const fs::path& dir, double value) {
     }
   }
   if (!p.ok) return p;
-  const std::string r = slurp(dir / "response.json");
+  const std::string r = read_text_file(dir / "response.json");
   p.growth_rate = read_json_number(r, "growth_rate");
   p.growth_rate_error = read_json_number(r, "growth_rate_error");
   p.frequency_hz = read_json_number(r, "frequency_hz");
@@ -205,7 +188,7 @@ struct PointRunner::Impl {
     std::vector<double> todo;
     for (const double v : values) {
       // A point of an earlier study with other settings (the case file, --set, study.set) is rerun.
-      if (fs::exists(dir_of(v) / "point.json") && slurp(dir_of(v) / "settings.txt") != settings(v)) {
+      if (fs::exists(dir_of(v) / "point.json") && read_text_file(dir_of(v) / "settings.txt") != settings(v)) {
         spdlog::info("study: {} = {:.8g} was run with other settings; rerun", io::to_string(c_.study->parameter), v);
         fs::remove(dir_of(v) / "point.json");
       }
@@ -252,7 +235,7 @@ struct PointRunner::Impl {
   /// What makes a point's run: the case file's text and the run's overrides (not those of
   /// `study.*`, which `run` ignores: a study refined with another tolerance reuses its points).
   std::string settings(double value) const {
-    std::string text = slurp(common_.case_file);
+    std::string text = read_text_file(common_.case_file);
     for (const auto& o : run_overrides(c_, common_, value))
       if (!o.starts_with("study.")) text += "\n--set " + o;
     return text;
@@ -262,7 +245,7 @@ struct PointRunner::Impl {
     const fs::path dir = dir_of(value);
     fs::create_directories(dir);
     // An interrupted run of the same settings continues from its checkpoint.
-    const bool resume = slurp(dir / "settings.txt") == settings(value) && has_checkpoint(dir);
+    const bool resume = read_text_file(dir / "settings.txt") == settings(value) && has_checkpoint(dir);
     write_file_atomically(dir / "settings.txt", settings(value));
     std::vector<std::string> words{exe_, "run", common_.case_file.string(), "--no-plot"};
     if (resume)
@@ -299,7 +282,7 @@ struct PointRunner::Impl {
     std::string message;
     if (!ok) {
       // The run's one-line error (or how it ended).
-      std::istringstream log(slurp(dir / "run.log"));
+      std::istringstream log(read_text_file(dir / "run.log"));
       for (std::string line; std::getline(log, line);)
         if (line.find("error:") != std::string::npos) message = line;
       if (message.empty())

@@ -86,15 +86,20 @@ ForcedModalMotion::ForcedModalMotion(const shell::ShellModel& model, const Eigen
 
 long ForcedModalMotion::total_steps() const { return std::lround(std::ceil(pulses_.end() / dt_ - 1e-9)); }
 
-void ForcedModalMotion::shell_state(double t, Eigen::VectorXd& u, Eigen::VectorXd& v) const {
+Eigen::VectorXd ForcedModalMotion::modal_state(double t) const {
   const Eigen::Index K = modes_.cols();
-  Eigen::VectorXd q(K), dq(K);
+  Eigen::VectorXd state(2 * K);
   for (Eigen::Index j = 0; j < K; ++j) {
-    q(j) = pulses_.q(int(j), t);
-    dq(j) = pulses_.dq(int(j), t);
+    state(j) = pulses_.q(int(j), t);
+    state(K + j) = pulses_.dq(int(j), t);
   }
-  u = modes_ * q;
-  v = modes_ * dq;
+  return state;
+}
+
+void ForcedModalMotion::shell_state(double t, Eigen::VectorXd& u, Eigen::VectorXd& v) const {
+  const Eigen::VectorXd state = modal_state(t);
+  u = modes_ * state.head(modes_.cols());
+  v = modes_ * state.tail(modes_.cols());
 }
 
 Eigen::VectorXd ForcedModalMotion::modal_forces(std::span<const double> dp) const {
@@ -102,17 +107,11 @@ Eigen::VectorXd ForcedModalMotion::modal_forces(std::span<const double> dp) cons
 }
 
 void ForcedModalMotion::sample_at(double t) {
-  Eigen::VectorXd u, v;
-  shell_state(t, u, v);
-  flow_.pressure_rise(u, v, dp_);
+  const Eigen::VectorXd state = modal_state(t);
   const Eigen::Index K = modes_.cols();
-  Eigen::VectorXd input(2 * K);
-  for (Eigen::Index j = 0; j < K; ++j) {
-    input(j) = pulses_.q(int(j), t);
-    input(K + j) = pulses_.dq(int(j), t);
-  }
+  flow_.pressure_rise(modes_ * state.head(K), modes_ * state.tail(K), dp_);
   record_.time.push_back(t);
-  record_.inputs.push_back(std::move(input));
+  record_.inputs.push_back(state);
   record_.forces.push_back(modal_forces(dp_));
 }
 

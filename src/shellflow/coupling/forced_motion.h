@@ -78,6 +78,8 @@ class ForcedModalMotion {
   void restore(ArchiveReader& in);
 
  private:
+  /// [q; q'] of the pulses at t.
+  Eigen::VectorXd modal_state(double t) const;
   /// Shell displacement and velocity at t.
   void shell_state(double t, Eigen::VectorXd& u, Eigen::VectorXd& v) const;
   void sample_at(double t);
