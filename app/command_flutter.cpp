@@ -254,7 +254,7 @@ Aerodynamics aerodynamics(const CommonOptions& common, const FlutterOptions& opt
         std::make_unique<coupling::PistonAerodynamics>(linear, piston_theory(c, model, common.case_file.string()));
     return a;
   }
-  IdentifiedModel id = identify(common, options, int(linear.size()), setting, outdir);
+  IdentifiedModel id = identify(common, options, linear, setting, outdir);
   if (id.stopped) return a;
   a.model = std::move(id.aero);
   a.identification = std::move(id.json);
@@ -274,7 +274,11 @@ void check_options(const io::Case& full, const FlutterOptions& options, const st
     throw Error(
         "--no-aero-damping applies to --parameter lambda only (a Mach sweep at fixed density and "
         "pressure has the damping of its speed)");
-  if (options.aerodynamics != FlutterOptions::Aerodynamics::identified) return;
+  if (options.aerodynamics != FlutterOptions::Aerodynamics::identified) {
+    if (!options.identification_mach.empty())
+      throw Error("--identification-mach applies to --aerodynamics identified (piston theory takes every Mach)");
+    return;
+  }
   if (options.direct)
     throw Error(
         "--aerodynamics identified works on the modal basis (its modes are the identification's): drop --direct");
@@ -401,6 +405,12 @@ Command add_flutter_command(CLI::App& cli, CommonOptions& common) {
   sub->add_option("--regularisation", options->regularisation,
                   "Tikhonov weight of the identified model's fit, relative to the largest input energy (default 0)")
       ->check(CLI::Range(0.0, 1.0));
+  sub->add_option("--identification-mach", options->identification_mach,
+                  "Identify at this Mach number instead of the case's (OUTDIR/identification_mach_M), or at two: "
+                  "the models' taps are then interpolated linearly in Mach between them and each is scaled in "
+                  "reduced time outside (default: the case's Mach, OUTDIR/identification)")
+      ->expected(1, 2)
+      ->check(CLI::Range(1.0, 100.0));
   return {sub, [&common, options, sub] {
             options->modes_given = sub->count("--modes") > 0;
             return flutter_command(common, *options);

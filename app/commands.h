@@ -85,9 +85,10 @@ struct FlutterOptions {
   /// The aerodynamic model: piston theory, or identified from the case's own flow by a
   /// forced-motion run (flutter_identified.h).
   enum class Aerodynamics { piston, identified } aerodynamics = Aerodynamics::piston;
-  bool modes_given = false;     ///< --modes on the command line (identified: else the case's)
-  int taps = 0;                 ///< FIR taps of the identified model; 0: auto
-  double regularisation = 0.0;  ///< Tikhonov weight of the fit (relative)
+  bool modes_given = false;                 ///< --modes on the command line (identified: else the case's)
+  int taps = 0;                             ///< FIR taps of the identified model; 0: auto
+  double regularisation = 0.0;              ///< Tikhonov weight of the fit (relative)
+  std::vector<double> identification_mach;  ///< one or two; empty: the case's
 };
 int flutter_command(const CommonOptions& common, const FlutterOptions& options);
 

@@ -1405,6 +1405,46 @@ class IdentifiedFlutter(unittest.TestCase):
             self.assertIn(message, r.stderr)
             self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
 
+    def test_two_identification_mach_numbers_and_a_thicker_plate(self):
+        # Identified at Mach 1.9 and 2.1 around the boundary, the taps interpolated in Mach: piston
+        # theory with its damping factor c(M) interpolated linearly, M_cr 2.0091356 (the unit test
+        # ForcedMotion.TwoIdentificationsInterpolateInMach) against 2.0092937 of piston theory, where
+        # one identification at the case's Mach 2.3 gives 2.0126584 (c frozen at 2.3).
+        out = os.path.join(self.tmp.name, "two")
+        d, _ = self.flutter(self.MONOLITHIC, out, "--aerodynamics", "identified", "--parameter", "mach",
+                            "--identification-mach", "2.1", "1.9")
+        p, _ = self.flutter(self.MONOLITHIC, os.path.join(self.tmp.name, "piston"), "--modes", "6",
+                            "--parameter", "mach")
+        self.assertEqual(d["identification"]["identification_mach"], [1.9, 2.1])
+        self.assertEqual([r["mach"] for r in d["identification"]["runs"]], [1.9, 2.1])
+        for m in ("1.9", "2.1"):
+            self.assertTrue(os.path.exists(os.path.join(out, "identification_mach_" + m, "gaf_modes.csv")), m)
+        self.assertAlmostEqual(d["mach_cr"], 2.0091356, delta=1e-6)
+        self.assertAlmostEqual(p["mach_cr"], 2.0092937, delta=1e-6)
+        # A thicker plate reuses the identification at 1.9 alone: its modes on the mid-surface are
+        # combinations of the identified ones to 1.4e-4, and the model carried over to them gives
+        # the lambda_cr of an identification of the thicker plate itself.
+        args = ("--aerodynamics", "identified", "--identification-mach", "1.9", "--set", "shell.thickness=1.6e-3")
+        t, err = self.flutter(self.MONOLITHIC, out, *args)
+        fresh, _ = self.flutter(self.MONOLITHIC, os.path.join(self.tmp.name, "thick"), *args)
+        self.assertIn("are combinations of the identified ones", err)
+        self.assertTrue(t["identification"]["reused"])
+        self.assertFalse(fresh["identification"]["reused"])
+        self.assertLess(t["identification"]["runs"][0]["mode_residual"], 1e-3)
+        self.assertLess(abs(t["lambda_cr"] / fresh["lambda_cr"] - 1), 1e-5)
+        # Other supports change the mode shapes: the identification is made anew.
+        supports = ("shell.supports=[{group: leading_edge, type: simply_supported}, {group: trailing_edge, "
+                    "type: sliding, direction: [1, 0, 0], clamp_director: true}, {group: sides, type: symmetry, "
+                    "normal: [0, 0, 1]}]")
+        s, err = self.flutter(self.MONOLITHIC, out, "--aerodynamics", "identified", "--identification-mach", "1.9",
+                              "--set", supports)
+        self.assertIn("are not combinations of the identified ones", err)
+        self.assertFalse(s["identification"]["reused"])
+        r = shellflow("flutter", self.MONOLITHIC, "-o", out, "--identification-mach", "1.9")
+        self.assertEqual(r.returncode, 1, r.stderr)
+        self.assertIn("applies to --aerodynamics identified", r.stderr)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+
     def test_euler_identification_on_the_coarse_strip(self):
         # The coarse strip at Mach 2.3 (614 shell steps of flow, no shell solve, 23 s; the analysis 13 s): the FIR fits the
         # record to 2e-5, and the staggered discrete analysis gives M_cr 1.99967 and the case's growth

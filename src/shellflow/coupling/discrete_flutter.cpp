@@ -146,52 +146,22 @@ std::vector<std::complex<double>> discrete_eigenvalues(const LinearFlutterSystem
   return roots;
 }
 
-// ---- IdentifiedAerodynamics -------------------------------------------------------------------
+// ---- DiscreteAerodynamics ---------------------------------------------------------------------
 
-IdentifiedAerodynamics::IdentifiedAerodynamics(DiscreteStateSpace model, const FlowCondition& identified,
-                                               DiscreteCoupling coupling)
-    : model_(std::move(model)), identified_(identified), coupling_(coupling) {
-  if (model_.D.cols() != 2 * model_.D.rows())
-    throw_input_error("identified aerodynamics: a model of {} inputs for {} forces; expected [q; q'], twice as many",
-                      model_.D.cols(), model_.D.rows());
-  if (!(identified_.speed > 0.0) || !(identified_.dynamic_pressure_over_beta > 0.0))
-    throw_input_error("identified aerodynamics: the identification's stream has speed {} m/s and rho U^2/beta {} Pa",
-                      identified_.speed, identified_.dynamic_pressure_over_beta);
-}
-
-AeroStateSpace IdentifiedAerodynamics::at(const FlowCondition&) const {
+AeroStateSpace DiscreteAerodynamics::at(const FlowCondition&) const {
   throw_input_error(
       "identified aerodynamics: a discrete-time model at the shell step has no continuous-time form (its roots come "
       "from the one-step map, discrete_flutter.h)");
 }
 
-DiscreteStateSpace IdentifiedAerodynamics::scaled(const FlowCondition& flow, double& scale) const {
-  if (!flow.damping)
-    throw_input_error(
-        "identified aerodynamics: the model's forces cannot be split into a stiffness and a damping part; "
-        "--no-aero-damping applies to piston theory only");
-  if (!(flow.mach > 1.0) || !(flow.speed >= 0.0))
-    throw_input_error("identified aerodynamics: the stream at Mach {} and {} m/s is not supersonic", flow.mach,
-                      flow.speed);
-  // At rest (a lambda sweep's lambda = 0) the model has no forces: its step stays.
-  const double r = flow.speed > 0.0 ? identified_.speed / flow.speed : 1.0;
-  const Eigen::Index n = model_.D.rows();
-  DiscreteStateSpace s = model_;
-  s.dt = model_.dt * r;
-  s.D.rightCols(n) *= r;
-  s.B.rightCols(n) *= r;
-  scale = flow.dynamic_pressure_over_beta / identified_.dynamic_pressure_over_beta;
-  return s;
-}
-
-std::vector<std::complex<double>> IdentifiedAerodynamics::roots(const LinearFlutterSystem& system,
-                                                                const FlowCondition& flow) const {
+std::vector<std::complex<double>> DiscreteAerodynamics::roots(const LinearFlutterSystem& system,
+                                                              const FlowCondition& flow) const {
   double scale = 0.0;
   const DiscreteStateSpace s = scaled(flow, scale);
   return discrete_eigenvalues(system, s, scale, coupling_);
 }
 
-std::pair<std::complex<double>, Eigen::VectorXcd> IdentifiedAerodynamics::least_stable_mode(
+std::pair<std::complex<double>, Eigen::VectorXcd> DiscreteAerodynamics::least_stable_mode(
     const LinearFlutterSystem& system, const FlowCondition& flow) const {
   double scale = 0.0;
   const DiscreteStateSpace s = scaled(flow, scale);
@@ -203,6 +173,52 @@ std::pair<std::complex<double>, Eigen::VectorXcd> IdentifiedAerodynamics::least_
   }
   if (best < 0) throw SolverError("discrete flutter system: no root");
   return {std::log(es.eigenvalues()(best)) / s.dt, system.shape(es.eigenvectors().col(best).head(system.size()))};
+}
+
+namespace {
+
+/// The flows a model can be scaled to: with its damping, supersonic.
+void check_flow(const FlowCondition& flow) {
+  if (!flow.damping)
+    throw_input_error(
+        "identified aerodynamics: the model's forces cannot be split into a stiffness and a damping part; "
+        "--no-aero-damping applies to piston theory only");
+  if (!(flow.mach > 1.0) || !(flow.speed >= 0.0))
+    throw_input_error("identified aerodynamics: the stream at Mach {} and {} m/s is not supersonic", flow.mach,
+                      flow.speed);
+}
+
+void check_identified(const FlowCondition& identified) {
+  if (!(identified.speed > 0.0) || !(identified.dynamic_pressure_over_beta > 0.0) || !(identified.mach > 1.0))
+    throw_input_error(
+        "identified aerodynamics: the identification's stream has Mach {}, speed {} m/s and rho U^2/beta {} Pa",
+        identified.mach, identified.speed, identified.dynamic_pressure_over_beta);
+}
+
+}  // namespace
+
+// ---- IdentifiedAerodynamics -------------------------------------------------------------------
+
+IdentifiedAerodynamics::IdentifiedAerodynamics(DiscreteStateSpace model, const FlowCondition& identified,
+                                               DiscreteCoupling coupling)
+    : DiscreteAerodynamics(coupling), model_(std::move(model)), identified_(identified) {
+  if (model_.D.cols() != 2 * model_.D.rows())
+    throw_input_error("identified aerodynamics: a model of {} inputs for {} forces; expected [q; q'], twice as many",
+                      model_.D.cols(), model_.D.rows());
+  check_identified(identified_);
+}
+
+DiscreteStateSpace IdentifiedAerodynamics::scaled(const FlowCondition& flow, double& scale) const {
+  check_flow(flow);
+  // At rest (a lambda sweep's lambda = 0) the model has no forces: its step stays.
+  const double r = flow.speed > 0.0 ? identified_.speed / flow.speed : 1.0;
+  const Eigen::Index n = model_.D.rows();
+  DiscreteStateSpace s = model_;
+  s.dt = model_.dt * r;
+  s.D.rightCols(n) *= r;
+  s.B.rightCols(n) *= r;
+  scale = flow.dynamic_pressure_over_beta / identified_.dynamic_pressure_over_beta;
+  return s;
 }
 
 std::unique_ptr<ModalAerodynamics> IdentifiedAerodynamics::truncated(int k) const {
@@ -218,6 +234,72 @@ std::unique_ptr<ModalAerodynamics> IdentifiedAerodynamics::truncated(int k) cons
   t.B.resize(model_.B.rows(), 2 * k);
   t.B << model_.B.leftCols(k), model_.B.middleCols(n, k);
   return std::make_unique<IdentifiedAerodynamics>(std::move(t), identified_, coupling_);
+}
+
+// ---- MachInterpolatedAerodynamics -------------------------------------------------------------
+
+FirModel truncated_fir(const FirModel& model, int k) {
+  const Eigen::Index n = model.outputs();
+  if (k < 1 || k > n || model.inputs() != 2 * n)
+    throw SolverError(fmt::format("identified aerodynamics: cannot truncate a model of {} coordinates to {}", n, k));
+  FirModel t;
+  t.dt = model.dt;
+  for (const MatrixXd& H : model.taps) {
+    t.taps.emplace_back(k, 2 * k);
+    t.taps.back() << H.block(0, 0, k, k), H.block(0, n, k, k);
+  }
+  return t;
+}
+
+MachInterpolatedAerodynamics::MachInterpolatedAerodynamics(FirModel low, const FlowCondition& at_low, FirModel high,
+                                                           const FlowCondition& at_high, DiscreteCoupling coupling)
+    : DiscreteAerodynamics(coupling),
+      models_{std::move(low), std::move(high)},
+      flows_{at_low, at_high},
+      ends_{IdentifiedAerodynamics(models_[0].state_space(), at_low, coupling),
+            IdentifiedAerodynamics(models_[1].state_space(), at_high, coupling)} {
+  if (!(flows_[0].mach < flows_[1].mach))
+    throw_input_error("identified aerodynamics: the identifications' Mach numbers {} and {} are not increasing",
+                      flows_[0].mach, flows_[1].mach);
+  const double c0 = flows_[0].speed / flows_[0].mach, c1 = flows_[1].speed / flows_[1].mach;
+  if (std::abs(c0 - c1) > 1e-9 * c0 || std::abs(flows_[0].density - flows_[1].density) > 1e-9 * flows_[0].density)
+    throw_input_error(
+        "identified aerodynamics: the identifications at Mach {} and {} have other streams (sound speeds {} and {} "
+        "m/s, densities {} and {} kg/m^3); interpolate in Mach at one density and pressure",
+        flows_[0].mach, flows_[1].mach, c0, c1, flows_[0].density, flows_[1].density);
+  if (models_[0].dt != models_[1].dt || models_[0].outputs() != models_[1].outputs())
+    throw_input_error(
+        "identified aerodynamics: the identifications at Mach {} and {} have other steps ({} and {} s) or modes ({} "
+        "and {})",
+        flows_[0].mach, flows_[1].mach, models_[0].dt, models_[1].dt, models_[0].outputs(), models_[1].outputs());
+}
+
+DiscreteStateSpace MachInterpolatedAerodynamics::scaled(const FlowCondition& flow, double& scale) const {
+  check_flow(flow);
+  if (flow.mach <= flows_[0].mach) return ends_[0].scaled(flow, scale);
+  if (flow.mach >= flows_[1].mach) return ends_[1].scaled(flow, scale);
+  const double w1 = (flows_[1].mach - flow.mach) / (flows_[1].mach - flows_[0].mach);
+  const double c_id = flows_[0].speed / flows_[0].mach, c = flow.speed / flow.mach;
+  const Eigen::Index n = models_[0].outputs();
+  FirModel blend;
+  blend.dt = models_[0].dt * (flow.speed > 0.0 ? c_id / c : 1.0);
+  blend.taps.assign(std::max(models_[0].taps.size(), models_[1].taps.size()), MatrixXd::Zero(n, 2 * n));
+  for (int i = 0; i < 2; ++i) {
+    const double w = i == 0 ? w1 : 1.0 - w1;
+    const double s = w * flow.dynamic_pressure_over_beta / flows_[i].dynamic_pressure_over_beta;
+    const double v = flow.speed > 0.0 ? flows_[i].speed / flow.speed : 1.0;
+    for (std::size_t j = 0; j < models_[i].taps.size(); ++j) {
+      blend.taps[j].leftCols(n) += s * models_[i].taps[j].leftCols(n);
+      blend.taps[j].rightCols(n) += (s * v) * models_[i].taps[j].rightCols(n);
+    }
+  }
+  scale = 1.0;
+  return blend.state_space();
+}
+
+std::unique_ptr<ModalAerodynamics> MachInterpolatedAerodynamics::truncated(int k) const {
+  return std::make_unique<MachInterpolatedAerodynamics>(truncated_fir(models_[0], k), flows_[0],
+                                                        truncated_fir(models_[1], k), flows_[1], coupling_);
 }
 
 }  // namespace shellflow::coupling

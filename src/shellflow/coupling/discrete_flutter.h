@@ -41,30 +41,68 @@ std::vector<std::complex<double>> discrete_eigenvalues(const LinearFlutterSystem
                                                        const DiscreteStateSpace& aero, double scale,
                                                        DiscreteCoupling coupling = DiscreteCoupling::simultaneous);
 
-/// An identified discrete-time GAF model (inputs [q; q']) as a provider of the flutter
-/// analysis (sweep_flutter). At another flow condition it is scaled as a model of the reduced
-/// time t U / a: the forces by (rho U^2 / beta) over the identification's (the 1/beta
-/// scaling of ../design/identified_aero.md, exact in density), the step by U0 / U and the q'
-/// inputs' columns by U0 / U. The structure is then discretised at that step.
-class IdentifiedAerodynamics final : public ModalAerodynamics {
+/// A discrete-time GAF model (inputs [q; q']) as a provider of the flutter analysis
+/// (sweep_flutter): the roots come from the one-step map of the model at each flow condition.
+class DiscreteAerodynamics : public ModalAerodynamics {
  public:
-  /// `identified`: the free stream of the identification run. Throws InputError when the
-  /// model's inputs are not twice its outputs.
-  IdentifiedAerodynamics(DiscreteStateSpace model, const FlowCondition& identified, DiscreteCoupling coupling);
+  explicit DiscreteAerodynamics(DiscreteCoupling coupling) : coupling_(coupling) {}
   /// Throws InputError: the model has no continuous-time form.
   AeroStateSpace at(const FlowCondition& flow) const override;
   std::vector<std::complex<double>> roots(const LinearFlutterSystem& system, const FlowCondition& flow) const override;
   std::pair<std::complex<double>, Eigen::VectorXcd> least_stable_mode(const LinearFlutterSystem& system,
                                                                       const FlowCondition& flow) const override;
+  /// The model at `flow` and its force scale. Throws InputError for a flow without damping
+  /// (the forces cannot be split) or one that is not supersonic.
+  virtual DiscreteStateSpace scaled(const FlowCondition& flow, double& scale) const = 0;
+
+ protected:
+  DiscreteCoupling coupling_;
+};
+
+/// An identified discrete-time GAF model from one identification. At another flow condition
+/// it is scaled as a model of the reduced time t U / a: the forces by (rho U^2 / beta) over the
+/// identification's (the 1/beta scaling of ../design/identified_aero.md, exact in density), the
+/// step by U0 / U and the q' inputs' columns by U0 / U. The structure is then discretised at
+/// that step.
+class IdentifiedAerodynamics final : public DiscreteAerodynamics {
+ public:
+  /// `identified`: the free stream of the identification run. Throws InputError when the
+  /// model's inputs are not twice its outputs.
+  IdentifiedAerodynamics(DiscreteStateSpace model, const FlowCondition& identified, DiscreteCoupling coupling);
   std::unique_ptr<ModalAerodynamics> truncated(int k) const override;
   std::string name() const override { return "identified"; }
-  /// The model at `flow` and its force scale.
-  DiscreteStateSpace scaled(const FlowCondition& flow, double& scale) const;
+  DiscreteStateSpace scaled(const FlowCondition& flow, double& scale) const override;
 
  private:
   DiscreteStateSpace model_;
   FlowCondition identified_;
-  DiscreteCoupling coupling_;
 };
+
+/// Two FIR models identified at Mach numbers M1 < M2 (the same density, pressure and step).
+/// Between them the taps are interpolated linearly in Mach at the acoustic time t c / a:
+///   H_j = sum_i w_i s_i [Hq_ij, (U_i / U) Hv_ij],   w_1 = (M2 - M) / (M2 - M1), w_2 = 1 - w_1,
+/// s_i = (rho U^2 / beta) over identification i's, at the step dt c_id / c; each model's
+/// velocity inputs so carry the 1 / U of a reduced velocity. At M1 and M2 it is that
+/// identification's model (IdentifiedAerodynamics); outside [M1, M2] the nearer one, scaled in
+/// reduced time. Piston theory so interpolated is piston theory with its damping factor
+/// c(M) = (M^2 - 2) / (M^2 - 1) interpolated linearly between M1 and M2.
+class MachInterpolatedAerodynamics final : public DiscreteAerodynamics {
+ public:
+  /// Throws InputError when the Mach numbers are not increasing, the models' steps, sizes or
+  /// sound speeds differ, or a model's inputs are not [q; q'].
+  MachInterpolatedAerodynamics(FirModel low, const FlowCondition& at_low, FirModel high, const FlowCondition& at_high,
+                               DiscreteCoupling coupling);
+  std::unique_ptr<ModalAerodynamics> truncated(int k) const override;
+  std::string name() const override { return "identified at two Mach numbers"; }
+  DiscreteStateSpace scaled(const FlowCondition& flow, double& scale) const override;
+
+ private:
+  FirModel models_[2];
+  FlowCondition flows_[2];
+  IdentifiedAerodynamics ends_[2];
+};
+
+/// The first k coordinates of a model of inputs [q; q'] (forces, q and q' taps).
+FirModel truncated_fir(const FirModel& model, int k);
 
 }  // namespace shellflow::coupling

@@ -32,6 +32,20 @@ void write_record(const coupling::ForcedMotionRecord& r, const std::filesystem::
   write_file_atomically(file, csv);
 }
 
+/// gaf_modes.csv: the modes' vectors in the shell's dofs (a row per dof, a column per mode),
+/// against which a case of another thickness or material is checked before its reuse.
+void write_modes(const Eigen::MatrixXd& basis, const std::filesystem::path& file) {
+  std::string csv = "dof";
+  for (Eigen::Index j = 0; j < basis.cols(); ++j) csv += fmt::format(",mode_{}", j + 1);
+  csv += '\n';
+  for (Eigen::Index i = 0; i < basis.rows(); ++i) {
+    csv += std::to_string(i);
+    for (Eigen::Index j = 0; j < basis.cols(); ++j) csv += fmt::format(",{:.17g}", basis(i, j));
+    csv += '\n';
+  }
+  write_file_atomically(file, csv);
+}
+
 /// gaf.json: what the record belongs to (the flutter command checks it before reusing it).
 void write_summary(const RunContext& run, const coupling::ForcedModalMotion& forced,
                    const coupling::LinearFlutterSystem& modes, const coupling::FlowCondition& flow,
@@ -99,8 +113,10 @@ void run_identification(const RunContext& run) {
   if (run.control.stopped()) return;
   // 3. The record.
   write_record(forced.record(), run.outdir / "gaf_record.csv");
+  write_modes(modes.basis(), run.outdir / "gaf_modes.csv");
   write_summary(run, forced, modes, flow, s.aerodynamics->name());
-  spdlog::info("wrote {}: gaf_record.csv ({} samples), gaf.json", run.outdir.string(), forced.record().time.size());
+  spdlog::info("wrote {}: gaf_record.csv ({} samples), gaf_modes.csv, gaf.json", run.outdir.string(),
+               forced.record().time.size());
 }
 
 }  // namespace shellflow::run
