@@ -9,6 +9,7 @@
 
 #include "shellflow/core/error.h"
 #include "shellflow/fluid/mass.h"
+#include "shellflow/fluid/snapshot_io.h"
 #include "shellflow/fluid/time_step.h"
 #include "shellflow/fluid/viscous.h"
 
@@ -111,37 +112,9 @@ void FluidModel::restore(const FluidSnapshot& s) {
   viscosity_valid_ = false;
 }
 
-void FluidModel::save(ArchiveWriter& out) const {
-  for (const auto& v : state_.var) out.put(v);
-  out.put(x_);
-  out.put(w_);
-  out.put(time_);
-  out.put(steps_);
-  const auto& walls = boundaries_.set_wall_velocities();
-  out.put(static_cast<std::uint64_t>(walls.size()));
-  for (const auto& w : walls) out.put(w);
-  out.put(density_rate_);
-}
+void FluidModel::save(ArchiveWriter& out) const { write_snapshot(*this, out); }
 
-void FluidModel::restore(ArchiveReader& in) {
-  FluidSnapshot s;
-  const auto nn = std::size_t(mesh_.num_nodes());
-  for (auto& v : s.U.var) {
-    v = in.get_vector<double>();
-    in.expect_size("the flow's state", v.size(), nn);
-  }
-  s.x = in.get_vec3s();
-  in.expect_size("the fluid node positions", s.x.size(), nn);
-  s.w = in.get_vec3s();
-  in.expect_size("the fluid mesh velocities", s.w.size(), nn);
-  s.time = in.get<double>();
-  s.steps = in.get<long>();
-  const auto walls = in.get<std::uint64_t>();
-  in.expect_size("the flow's wall conditions", walls, boundaries_.set_wall_velocities().size());
-  for (std::uint64_t k = 0; k < walls; ++k) s.wall_velocity.push_back(in.get_vec3s());
-  s.density_rate = in.get<double>();
-  restore(s);
-}
+void FluidModel::restore(ArchiveReader& in) { read_snapshot(*this, in); }
 
 void FluidModel::check_cfl(double cfl) const {
   // Measured on tetrahedra (tests/fluid/test_stability.cpp): stable to 0.9 at rest, unstable

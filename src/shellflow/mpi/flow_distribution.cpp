@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <array>
-#include <type_traits>
 
 #include "shellflow/core/error.h"
+#include "shellflow/fluid/snapshot_io.h"
 
 namespace shellflow::mpi {
 
@@ -19,110 +19,96 @@ fluid::FluidModel::Distribution flow_distribution(const Communicator& comm, Halo
 
 namespace {
 
-/// The owned entries (`components` values per node) of every rank in whole node order, on
-/// rank 0: each rank sends its owned nodes' whole indices and values.
-std::vector<double> gather_whole(const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes,
-                                 int components, const double* local) {
-  std::vector<double> mine;
-  mine.reserve(std::size_t(part.num_owned) * std::size_t(components + 1));
-  for (Index i = 0; i < part.num_owned; ++i) {
-    mine.push_back(double(part.nodes[std::size_t(i)]));
-    for (int c = 0; c < components; ++c)
-      mine.push_back(local[std::size_t(i) * std::size_t(components) + std::size_t(c)]);
-  }
-  const std::vector<double> all = comm.gather(mine);
-  if (comm.rank() != 0) return mine;  // not written (rank 0 writes)
-  std::vector<double> whole(std::size_t(whole_nodes) * std::size_t(components), 0.0);
-  const std::size_t stride = std::size_t(components) + 1;
-  if (all.size() != std::size_t(whole_nodes) * stride)
-    throw Error(fmt::format("distributed flow state: {} values gathered for {} nodes", all.size(), whole_nodes));
-  for (std::size_t k = 0; k < all.size(); k += stride)
-    std::copy_n(all.begin() + std::ptrdiff_t(k + 1), components,
-                whole.begin() + std::ptrdiff_t(std::size_t(all[k]) * std::size_t(components)));
-  return whole;
-}
+/// The snapshot layout of a rank's part: the owners' values gathered to rank 0 in whole node
+/// order (the other ranks return their own: they write nothing), the whole taken apart on
+/// every rank.
+class OwnersLayout final : public fluid::SnapshotLayout {
+ public:
+  OwnersLayout(const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes)
+      : comm_(comm), part_(part), whole_(std::size_t(whole_nodes)) {}
 
-}  // namespace
-
-void save_whole(const fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part,
-                Index whole_nodes, ArchiveWriter& out) {
-  const fluid::FluidSnapshot s = model.snapshot();
-  for (const auto& v : s.U.var) out.put(gather_whole(comm, part, whole_nodes, 1, v.data()));
-  for (const auto* field : {&s.x, &s.w}) {
-    const std::vector<double> whole = gather_whole(comm, part, whole_nodes, 3, (*field)[0].data());
-    std::vector<Vec3> vectors(whole.size() / 3);
-    for (std::size_t a = 0; a < vectors.size(); ++a)
-      vectors[a] = Vec3(whole[3 * a], whole[3 * a + 1], whole[3 * a + 2]);
-    out.put(vectors);
+  std::vector<double> gather(std::span<const double> local, int components) const override {
+    const auto nc = std::size_t(components);
+    std::vector<double> mine;  // per owned node: its whole index, then its values
+    mine.reserve(std::size_t(part_.num_owned) * (nc + 1));
+    for (Index i = 0; i < part_.num_owned; ++i) {
+      mine.push_back(double(part_.nodes[std::size_t(i)]));
+      for (std::size_t c = 0; c < nc; ++c) mine.push_back(local[std::size_t(i) * nc + c]);
+    }
+    const std::vector<double> all = comm_.gather(mine);
+    if (comm_.rank() != 0) return mine;  // not written (rank 0 writes)
+    std::vector<double> whole(whole_ * nc, 0.0);
+    const std::size_t stride = nc + 1;
+    if (all.size() != whole_ * stride)
+      throw Error(fmt::format("distributed flow state: {} values gathered for {} nodes", all.size(), whole_));
+    for (std::size_t k = 0; k < all.size(); k += stride)
+      std::copy_n(all.begin() + std::ptrdiff_t(k + 1), nc, whole.begin() + std::ptrdiff_t(std::size_t(all[k]) * nc));
+    return whole;
   }
-  out.put(s.time);
-  out.put(s.steps);
-  out.put(static_cast<std::uint64_t>(s.wall_velocity.size()));
-  const auto& conditions = model.boundaries().conditions();
-  for (std::size_t c = 0; c < s.wall_velocity.size(); ++c) {
-    // Set per node of the condition's group (sorted whole nodes in the whole mesh): the owned
-    // ones gathered with their whole node, put in whole node order.
-    const auto& local = s.wall_velocity[c];
-    const std::vector<Index>& group = model.mesh().group(conditions[c].group).nodes;
-    const bool set = comm.any(!local.empty());
+
+  std::vector<Vec3> gather_group(std::span<const Index> group, std::span<const Vec3> local) const override {
+    // The owned nodes' values with their whole node, put in whole node order.
+    const bool set = comm_.any(!local.empty());
+    if (!set) return {};
     std::vector<double> mine;
-    for (std::size_t j = 0; set && j < local.size(); ++j)
-      if (group[j] < part.num_owned)
-        mine.insert(mine.end(), {double(part.nodes[std::size_t(group[j])]), local[j].x(), local[j].y(), local[j].z()});
-    std::vector<double> all = set ? comm.gather(mine) : std::vector<double>{};
+    for (std::size_t j = 0; j < local.size(); ++j)
+      if (group[j] < part_.num_owned)
+        mine.insert(mine.end(), {double(part_.nodes[std::size_t(group[j])]), local[j].x(), local[j].y(), local[j].z()});
+    const std::vector<double> all = comm_.gather(mine);
     std::vector<std::array<double, 4>> rows(all.size() / 4);
     for (std::size_t k = 0; k < rows.size(); ++k) std::copy_n(all.begin() + std::ptrdiff_t(4 * k), 4, rows[k].begin());
     std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return a[0] < b[0]; });
     std::vector<Vec3> whole(rows.size());
     for (std::size_t k = 0; k < rows.size(); ++k) whole[k] = Vec3(rows[k][1], rows[k][2], rows[k][3]);
-    out.put(whole);
+    return whole;
   }
-  out.put(s.density_rate);
+
+  std::size_t whole_nodes() const override { return whole_; }
+
+  std::vector<double> scatter(std::span<const double> whole, int components) const override {
+    const auto nc = std::size_t(components);
+    std::vector<double> out(part_.nodes.size() * nc);
+    for (std::size_t i = 0; i < part_.nodes.size(); ++i)
+      std::copy_n(whole.begin() + std::ptrdiff_t(std::size_t(part_.nodes[i]) * nc), nc,
+                  out.begin() + std::ptrdiff_t(i * nc));
+    return out;
+  }
+
+  std::vector<Vec3> scatter_group(std::span<const Index> group, std::span<const Vec3> whole, ArchiveReader& in,
+                                  const std::string& what) const override {
+    // The whole group's nodes: every rank's owned nodes of it, sorted (whole node order).
+    std::vector<double> mine;
+    for (const Index l : group)
+      if (l < part_.num_owned) mine.push_back(double(part_.nodes[std::size_t(l)]));
+    std::vector<double> ids = comm_.all_gather(mine);
+    std::sort(ids.begin(), ids.end());
+    in.expect_size(what, whole.size(), ids.size());
+    std::vector<Vec3> out;
+    for (const Index l : group) {
+      const double id = double(part_.nodes[std::size_t(l)]);
+      out.push_back(whole[std::size_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin())]);
+    }
+    return out;
+  }
+
+ private:
+  const Communicator& comm_;
+  const mesh::LocalPart& part_;
+  std::size_t whole_;
+};
+
+}  // namespace
+
+void save_whole(const fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part,
+                Index whole_nodes, ArchiveWriter& out) {
+  const OwnersLayout layout(comm, part, whole_nodes);
+  fluid::write_snapshot(model, out, &layout);
 }
 
 void restore_whole(fluid::FluidModel& model, const Communicator& comm, const mesh::LocalPart& part, Index whole_nodes,
                    ArchiveReader& in) {
-  fluid::FluidSnapshot s;
-  const auto nn = std::size_t(whole_nodes);
-  const auto local = [&](const auto& whole) {
-    std::remove_cvref_t<decltype(whole)> out(part.nodes.size());
-    for (std::size_t i = 0; i < part.nodes.size(); ++i) out[i] = whole[std::size_t(part.nodes[i])];
-    return out;
-  };
-  for (auto& v : s.U.var) {
-    const auto whole = in.get_vector<double>();
-    in.expect_size("the flow's state", whole.size(), nn);
-    v = local(whole);
-  }
-  for (auto* field : {&s.x, &s.w}) {
-    const auto whole = in.get_vec3s();
-    in.expect_size("the fluid node positions and velocities", whole.size(), nn);
-    *field = local(whole);
-  }
-  s.time = in.get<double>();
-  s.steps = in.get<long>();
-  const auto walls = in.get<std::uint64_t>();
-  const auto& conditions = model.boundaries().conditions();
-  in.expect_size("the flow's wall conditions", walls, conditions.size());
-  for (std::uint64_t c = 0; c < walls; ++c) {
-    const std::vector<Vec3> whole = in.get_vec3s();
-    s.wall_velocity.emplace_back();
-    if (whole.empty()) continue;
-    // The whole group's nodes: every rank's owned nodes of it, sorted (whole node order).
-    const std::vector<Index>& group = model.mesh().group(conditions[c].group).nodes;
-    std::vector<double> mine;
-    for (const Index l : group)
-      if (l < part.num_owned) mine.push_back(double(part.nodes[std::size_t(l)]));
-    std::vector<double> ids = comm.all_gather(mine);
-    std::sort(ids.begin(), ids.end());
-    in.expect_size("the wall velocities of '" + conditions[c].group + "'", whole.size(), ids.size());
-    for (const Index l : group) {
-      const double id = double(part.nodes[std::size_t(l)]);
-      s.wall_velocity.back().push_back(whole[std::size_t(std::lower_bound(ids.begin(), ids.end(), id) - ids.begin())]);
-    }
-  }
-  s.density_rate = in.get<double>();
-  model.restore(s);
+  const OwnersLayout layout(comm, part, whole_nodes);
+  fluid::read_snapshot(model, in, &layout);
 }
 
 }  // namespace shellflow::mpi
