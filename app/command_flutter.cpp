@@ -393,7 +393,8 @@ Command add_flutter_command(CLI::App& cli, CommonOptions& common) {
                   "piston: first-order piston theory on the case's stream; identified: the generalised "
                   "aerodynamic forces of the case's own flow (Euler, or piston theory as a check), identified by "
                   "a forced-motion run of its coupling.identification modes (default 6) into OUTDIR/identification "
-                  "(reused when the case's sections are unchanged; continued from its checkpoint when stopped), "
+                  "(reused when the case's sections are unchanged, or only the shell's and its modes are "
+                  "combinations of the identified ones; continued from its checkpoint when stopped), "
                   "fitted by an FIR on [q; q'], solved with Newmark and the case's coupling scheme at the shell "
                   "step; see docs/flutter.md")
       ->transform(CLI::CheckedTransformer(std::map<std::string, FlutterOptions::Aerodynamics>{
@@ -410,6 +411,7 @@ Command add_flutter_command(CLI::App& cli, CommonOptions& common) {
                   "the models' taps are then interpolated linearly in Mach between them and each is scaled in "
                   "reduced time outside (default: the case's Mach, OUTDIR/identification)")
       ->expected(1, 2)
+      ->type_name("M [M2]")
       ->check(CLI::Range(1.0, 100.0));
   return {sub, [&common, options, sub] {
             options->modes_given = sub->count("--modes") > 0;
