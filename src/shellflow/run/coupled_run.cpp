@@ -7,7 +7,6 @@
 #include <optional>
 
 #include "shellflow/core/error.h"
-#include "shellflow/mpi/flow_distribution.h"
 #include "shellflow/run/coupling_log.h"
 #include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/quality_history.h"
@@ -112,28 +111,16 @@ CoupledBuild::CoupledBuild(const RunContext& run) {
   // whole on every rank (docs/parallel.md).
   const mpi::Communicator* ranks = run.ranks;
   setup::CoupledRanks on_ranks;
-  if (ranks) {
+  if (ranks)
     on_ranks = {ranks->rank(), ranks->size(),
                 [this, ranks](const setup::FlowPart& part, fluid::FluidModel& flow, coupling::FlowModel& model) {
-                  halo.emplace(*ranks, part.local);
-                  flow.set_distribution(mpi::flow_distribution(*ranks, *halo, part.local));
-                  model.set_distribution({part.local.nodes, part.node_owner, ranks->rank(),
-                                          [ranks](std::span<const int> owners, std::span<double> values) {
-                                            mpi::gather_from_owners(*ranks, owners, values);
-                                          },
-                                          [&flow, &part, ranks](ArchiveWriter& out) {
-                                            mpi::save_whole(flow, *ranks, part.local, part.whole_nodes, out);
-                                          },
-                                          [&flow, &part, ranks](ArchiveReader& in) {
-                                            mpi::restore_whole(flow, *ranks, part.local, part.whole_nodes, in);
-                                          }});
+                  distribution.emplace(*ranks, part);
+                  distribution->attach(flow, model);
                 }};
-  }
   mpi::on_every_rank(ranks, [&] {
     system = setup::build_coupled_system(run.c, run.meshes, ranks ? &on_ranks : nullptr);
-    if (system.part)
-      pieces.emplace(
-          make_fluid_pieces(*system.flow->flow(), *system.part, system.new_index, *ranks, run.recorder.probes()));
+    if (distribution)
+      pieces.emplace(distribution->pieces(*system.flow->flow(), system.new_index, run.recorder.probes()));
   });
 }
 

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "shellflow/mpi/flow_distribution.h"
+#include "shellflow/run/flow_ranks.h"
 #include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/run_kinds.h"
 #include "shellflow/run/time_loop.h"
@@ -38,15 +38,15 @@ void run_fluid(const RunContext& run) {
   // the rank's part of it, its piece of the frames and the probes' values from their owners.
   const mpi::Communicator* ranks = run.ranks;
   setup::Flow flow;
-  std::optional<mpi::HaloExchange> halo;
+  std::optional<FlowRanks> distribution;
   std::optional<FluidPieces> pieces;
   mpi::on_every_rank(ranks, [&] {
     flow = ranks ? setup::build_flow(section, *run.meshes.fluid, ranks->rank(), ranks->size())
                  : setup::build_flow(section, *run.meshes.fluid);
     if (!ranks) return;
-    halo.emplace(*ranks, flow.part->local);
-    flow.model->set_distribution(mpi::flow_distribution(*ranks, *halo, flow.part->local));
-    pieces.emplace(make_fluid_pieces(*flow.model, *flow.part, flow.new_index, *ranks, run.recorder.probes()));
+    distribution.emplace(*ranks, *flow.part);
+    distribution->attach(*flow.model);
+    pieces.emplace(distribution->pieces(*flow.model, flow.new_index, run.recorder.probes()));
   });
   fluid::FluidModel& model = *flow.model;
   std::optional<FluidOutput> output;
@@ -88,18 +88,17 @@ void run_fluid(const RunContext& run) {
   stepping.time = [&] { return model.time(); };
   // On ranks the checkpoint holds the whole mesh's state, as one process writes it: it restarts
   // on any number of ranks.
-  const Index whole_nodes = flow.part ? flow.part->whole_nodes : 0;
   stepping.save = [&](ArchiveWriter& out) {
-    if (ranks)
-      mpi::save_whole(model, *ranks, flow.part->local, whole_nodes, out);
+    if (distribution)
+      distribution->save(model, out);
     else
       model.save(out);
     out.put(first_density_rate);
     out.put(converged);
   };
   stepping.restore = [&](ArchiveReader& in) {
-    if (ranks)
-      mpi::restore_whole(model, *ranks, flow.part->local, whole_nodes, in);
+    if (distribution)
+      distribution->restore(model, in);
     else
       model.restore(in);
     first_density_rate = in.get<double>();

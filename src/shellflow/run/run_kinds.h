@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "shellflow/mpi/halo_exchange.h"
+#include "shellflow/run/flow_ranks.h"
 #include "shellflow/run/fluid_pieces.h"
 #include "shellflow/run/run_context.h"
 #include "shellflow/setup/coupled_setup.h"
@@ -46,7 +46,7 @@ struct CoupledBuild {
   explicit CoupledBuild(const RunContext& run);
   CoupledBuild(const CoupledBuild&) = delete;
   CoupledBuild& operator=(const CoupledBuild&) = delete;
-  std::optional<mpi::HaloExchange> halo;  ///< before the system: the flow's distribution refers to it
+  std::optional<FlowRanks> distribution;  ///< before the system: the flow's distribution refers to it
   setup::CoupledSystem system;
   std::optional<FluidPieces> pieces;
 };
