@@ -139,6 +139,8 @@ ModeMap map_modes(const fs::path& file, const Eigen::MatrixXd& basis) {
   for (Eigen::Index i = 0; i < basis.rows(); ++i)
     if (i % shell::dofs_per_node < 3) rows.push_back(i);
   const Eigen::MatrixXd old = stored(rows, Eigen::seqN(1, basis.cols())), now = basis(rows, Eigen::all);
+  map.residual = 0.0;
+  if (old == now) return map;  // the same modes, bit for bit: nothing to carry over
   map.T = old.colPivHouseholderQr().solve(now);
   map.residual = 0.0;
   for (Eigen::Index j = 0; j < now.cols(); ++j)
@@ -151,28 +153,33 @@ ModeMap map_modes(const fs::path& file, const Eigen::MatrixXd& basis) {
 constexpr double kModeTolerance = 1e-3;
 
 /// Whether the finished identification in `folder` holds for case `c`: of the same case
-/// sections, or of another shell section whose modes span the case's (`map` then set).
+/// sections, or of another shell section only; and in both cases of modes that span the
+/// case's (`map` then carries the model over when they are not the same bits: another
+/// thickness, or round-off of another thread count).
 bool reusable(const io::Case& c, const coupling::LinearFlutterSystem& linear, const fs::path& folder, ModeMap& map) {
   if (!fs::exists(folder / "gaf_record.csv") || !fs::exists(folder / "gaf.json")) return false;
   const std::string sections = run::case_sections_digest(c), stored = stored_sections(folder / "gaf.json");
-  if (stored == sections) {
-    spdlog::info("identified aerodynamics: reusing the identification in {} (same case sections)", folder.string());
-    return true;
+  const bool same = stored == sections;
+  if (!same && flow_sections(stored) != flow_sections(sections)) return false;
+  if (!fs::exists(folder / "gaf_modes.csv")) {
+    if (same)
+      spdlog::info("identified aerodynamics: reusing the identification in {} (same case sections)", folder.string());
+    return same;
   }
-  if (flow_sections(stored) != flow_sections(sections) || !fs::exists(folder / "gaf_modes.csv")) return false;
-  // Another thickness, material or support: the flow's model holds for the modes it was
-  // identified with, and so for every combination of them.
+  // The flow's model holds for the modes it was identified with, and so for every
+  // combination of them.
   map = map_modes(folder / "gaf_modes.csv", linear.basis());
   if (map.residual <= kModeTolerance) {
-    spdlog::info(
-        "identified aerodynamics: reusing the identification in {}: the shell section changed, and its modes are "
-        "combinations of the identified ones to {:.2e}",
-        folder.string(), map.residual);
+    spdlog::info("identified aerodynamics: reusing the identification in {} ({}; its modes {})", folder.string(),
+                 same ? "same case sections" : "the shell section changed",
+                 map.T.size() == 0 ? "are the case's"
+                                   : fmt::format("are combinations of the identified ones to {:.2e}", map.residual));
     return true;
   }
   spdlog::info(
-      "identified aerodynamics: the shell section changed and its modes are not combinations of the identified ones "
-      "({}); identifying anew in {}",
+      "identified aerodynamics: {} and its modes are not combinations of the identified ones ({}); identifying anew in "
+      "{}",
+      same ? "the case sections are the same" : "the shell section changed",
       std::isfinite(map.residual)
           ? fmt::format("{:.2g} of a mode outside them, over {:.0e}", map.residual, kModeTolerance)
           : std::string("another shell mesh"),

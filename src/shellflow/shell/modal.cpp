@@ -128,9 +128,17 @@ ModalResult natural_frequencies(const ShellModel& model, int count, const Eigen:
             "shell modal analysis: the stiffness matrix is singular (a zero-energy "
             "mode); check the supports");
       result.iterations = it;
+      // Each mode's sign fixed by its projection on a fixed generic vector: the Ritz solver's
+      // sign follows round-off (a different thread count flipped a strip's second mode), and a
+      // record in modal coordinates (an identification) must meet the same modes again.
+      std::mt19937 sign_rng(2);
+      std::uniform_real_distribution<double> weight(0.5, 1.5);
+      Eigen::VectorXd probe(n);
+      for (Eigen::Index i = 0; i < n; ++i) probe(i) = weight(sign_rng);
       for (int k = 0; k < count; ++k) {
         result.frequencies.push_back(std::sqrt(lambda(k)) / (2.0 * std::numbers::pi));
         Eigen::VectorXd phi = X.col(k);
+        if (probe.dot(phi) < 0.0) phi = -phi;
         model.to_global(phi);
         result.modes.push_back(std::move(phi));
       }
