@@ -83,9 +83,9 @@ coupling::DiscreteCoupling discrete_coupling(const io::Case& c) {
 
 namespace {
 
-/// The modes of a case whose shell section changed, in the identified ones: new = old T in
-/// least squares on the mid-surface, with the largest relative residual over the modes
-/// (infinite when the meshes differ).
+/// The case's modes in the identified ones: new = old T in least squares on the mid-surface,
+/// with the largest relative residual over the modes (infinite when the meshes differ; T
+/// empty and 0 when they are the same bits).
 struct ModeMap {
   Eigen::MatrixXd T;
   double residual = std::numeric_limits<double>::infinity();
@@ -94,7 +94,7 @@ struct ModeMap {
 /// One identification run at Mach `mach` (the case's or --identification-mach), fitted.
 struct Identification {
   coupling::FirFit fit;
-  ModeMap modes;                 ///< the case's modes in the identified ones (T empty: the same case sections)
+  ModeMap modes;                 ///< the case's modes in the identified ones (T empty: the same bits)
   coupling::FlowCondition flow;  ///< the run's free stream
   fs::path folder;
   int taps = 0;
@@ -142,7 +142,6 @@ ModeMap map_modes(const fs::path& file, const Eigen::MatrixXd& basis) {
   map.residual = 0.0;
   if (old == now) return map;  // the same modes, bit for bit: nothing to carry over
   map.T = old.colPivHouseholderQr().solve(now);
-  map.residual = 0.0;
   for (Eigen::Index j = 0; j < now.cols(); ++j)
     map.residual = std::max(map.residual, (old * map.T.col(j) - now.col(j)).norm() / now.col(j).norm());
   return map;
